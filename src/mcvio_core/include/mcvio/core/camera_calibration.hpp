@@ -1,0 +1,20 @@
+#pragma once
+#include <string>
+
+#include <Eigen/Geometry>
+
+#include "mcvio/core/camera_model.hpp"
+
+namespace mcvio {
+
+/// One camera's calibration, as in a EuRoC cam*/sensor.yaml.
+/// The resolution lives in `model` (model.width(), model.height()).
+struct CameraCalibration {
+  std::string name = "cam0";
+  CameraModel model;
+  double rate_hz = 20.0;
+  /// Camera -> body (IMU) frame: p_B = T_BC * p_C. This is EuRoC's T_BS of the camera.
+  Eigen::Isometry3d T_BC = Eigen::Isometry3d::Identity();
+};
+
+}  // namespace mcvio

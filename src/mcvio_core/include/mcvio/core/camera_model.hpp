@@ -1,0 +1,102 @@
+#pragma once
+#include <string>
+
+#include <Eigen/Core>
+
+namespace mcvio {
+
+/// Lens distortion applied to normalised image coordinates (x/z, y/z), named as in EuRoC/Kalibr
+/// sensor.yaml files.
+enum class DistortionModel {
+  kNone,              ///< ideal pinhole, no coefficients
+  kRadialTangential,  ///< "radial-tangential" (plumb bob): k1 k2 p1 p2
+  kEquidistant,       ///< "equidistant" (Kannala-Brandt fisheye): k1 k2 k3 k4
+};
+
+/// "none", "radial-tangential" or "equidistant".
+const char* toString(DistortionModel model);
+/// Parses the sensor.yaml spelling (also accepts "radtan", "plumb_bob", "fisheye", "pinhole"
+/// for none); throws mcvio::InputError naming the value otherwise.
+DistortionModel distortionModelFromString(const std::string& name);
+/// Number of coefficients the model takes: 0 or 4.
+int distortionCoefficientCount(DistortionModel model);
+
+/// Pinhole camera with lens distortion.
+///
+/// Pixel convention (OpenCV/EuRoC): pixel (0, 0) is the centre of the top-left pixel, u to the
+/// right, v down; the image covers u in [-0.5, width - 0.5) and v in [-0.5, height - 0.5).
+/// Camera frame: z along the optical axis, x right, y down.
+///
+/// Pipeline: p_C -> normalised (x/z, y/z) -> distort -> (fu * xd + cu, fv * yd + cv).
+/// All methods are const and thread-safe.
+class CameraModel {
+ public:
+  using Vec2 = Eigen::Vector2d;
+  using Vec3 = Eigen::Vector3d;
+  using Vec4 = Eigen::Vector4d;
+
+  /// A 1x1 camera with unit focal length; only useful as a placeholder before assignment.
+  CameraModel() = default;
+
+  /// intrinsics = (fu, fv, cu, cv) [px]; coefficients: 4 values for radial-tangential
+  /// (k1 k2 p1 p2) and equidistant (k1 k2 k3 k4), ignored for none.
+  /// Throws mcvio::InputError on non-positive size or focal length, or non-finite values.
+  CameraModel(int width, int height, const Vec4& intrinsics, DistortionModel model,
+              const Vec4& coefficients = Vec4::Zero());
+
+  /// Projects a point in camera coordinates to a distorted pixel. Returns false if the point is
+  /// behind (or on) the camera plane, beyond the valid range of the distortion model, or the
+  /// pixel falls outside the image; `pixel` (and `J`) are still written whenever z > 0 so a
+  /// caller can use out-of-image projections. J = d pixel / d p_C (2x3) when non-null.
+  bool project(const Vec3& p_C, Vec2* pixel, Eigen::Matrix<double, 2, 3>* J = nullptr) const;
+
+  /// Projects without the in-image test: false only behind the camera or beyond the model's
+  /// valid range.
+  bool projectAnywhere(const Vec3& p_C, Vec2* pixel,
+                       Eigen::Matrix<double, 2, 3>* J = nullptr) const;
+
+  /// Normalised undistorted -> normalised distorted coordinates; J = d distorted / d undistorted.
+  Vec2 distort(const Vec2& undistorted, Eigen::Matrix2d* J = nullptr) const;
+
+  /// Inverse of distort() by Newton iteration. Returns false when it does not converge to a
+  /// residual below 1e-10 (points far outside the lens' field of view).
+  bool undistort(const Vec2& distorted, Vec2* undistorted) const;
+
+  /// Pixel -> undistorted normalised coordinates (x/z, y/z). False if undistortion fails.
+  bool unproject(const Vec2& pixel, Vec2* normalized) const;
+
+  /// Pixel -> unit bearing vector in camera coordinates (z > 0). False if undistortion fails.
+  bool unprojectBearing(const Vec2& pixel, Vec3* bearing) const;
+
+  /// Pixel <-> distorted normalised coordinates (intrinsics only, no distortion).
+  Vec2 pixelToDistorted(const Vec2& pixel) const;
+  Vec2 distortedToPixel(const Vec2& distorted) const;
+
+  /// True if the pixel lies inside the image shrunk by `border` pixels on every side.
+  bool isInImage(const Vec2& pixel, double border = 0.0) const;
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  double fu() const { return intrinsics_[0]; }
+  double fv() const { return intrinsics_[1]; }
+  double cu() const { return intrinsics_[2]; }
+  double cv() const { return intrinsics_[3]; }
+  /// (fu, fv, cu, cv)
+  const Vec4& intrinsics() const { return intrinsics_; }
+  DistortionModel distortionModel() const { return model_; }
+  /// Four coefficients (zeros for DistortionModel::kNone).
+  const Vec4& distortionCoefficients() const { return coefficients_; }
+  /// 3x3 pinhole matrix K.
+  Eigen::Matrix3d cameraMatrix() const;
+
+ private:
+  bool inValidRange(const Vec2& undistorted) const;
+
+  int width_ = 1;
+  int height_ = 1;
+  Vec4 intrinsics_{1.0, 1.0, 0.0, 0.0};
+  DistortionModel model_ = DistortionModel::kNone;
+  Vec4 coefficients_ = Vec4::Zero();
+};
+
+}  // namespace mcvio

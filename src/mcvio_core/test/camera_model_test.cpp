@@ -1,0 +1,218 @@
+#include "mcvio/core/camera_model.hpp"
+
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "mcvio/core/input_error.hpp"
+
+namespace mcvio {
+namespace {
+
+// EuRoC V1_01 cam0 (sensor.yaml).
+CameraModel eurocCam0() {
+  return CameraModel(752, 480, {458.654, 457.296, 367.215, 248.375},
+                     DistortionModel::kRadialTangential,
+                     {-0.28340811, 0.07395907, 0.00019359, 1.76187114e-05});
+}
+
+// A fisheye lens with TUM-VI-like equidistant coefficients.
+CameraModel fisheye() {
+  return CameraModel(512, 512, {190.978, 190.973, 254.932, 256.897}, DistortionModel::kEquidistant,
+                     {0.0034823894, 0.000715034, -0.0020532361, 0.00020293673});
+}
+
+CameraModel pinhole() {
+  return CameraModel(640, 480, {500.0, 510.0, 320.0, 240.0}, DistortionModel::kNone);
+}
+
+std::vector<CameraModel> allModels() { return {eurocCam0(), fisheye(), pinhole()}; }
+
+TEST(CameraModel, DistortionModelNames) {
+  EXPECT_EQ(distortionModelFromString("radial-tangential"), DistortionModel::kRadialTangential);
+  EXPECT_EQ(distortionModelFromString("equidistant"), DistortionModel::kEquidistant);
+  EXPECT_EQ(distortionModelFromString("none"), DistortionModel::kNone);
+  for (auto m : {DistortionModel::kNone, DistortionModel::kRadialTangential,
+                 DistortionModel::kEquidistant}) {
+    EXPECT_EQ(distortionModelFromString(toString(m)), m);
+  }
+  try {
+    distortionModelFromString("omni");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("omni"), std::string::npos);
+  }
+}
+
+TEST(CameraModel, RejectsBadParameters) {
+  EXPECT_THROW(CameraModel(0, 480, {1, 1, 0, 0}, DistortionModel::kNone), InputError);
+  EXPECT_THROW(CameraModel(752, 480, {-1, 1, 0, 0}, DistortionModel::kNone), InputError);
+  EXPECT_THROW(CameraModel(752, 480, {1, 1, NAN, 0}, DistortionModel::kNone), InputError);
+  EXPECT_THROW(CameraModel(752, 480, {1, 1, 0, 0}, DistortionModel::kEquidistant, {0, INFINITY, 0, 0}),
+               InputError);
+}
+
+TEST(CameraModel, PinholeProjectsExactly) {
+  const CameraModel cam = pinhole();
+  Eigen::Vector2d px;
+  ASSERT_TRUE(cam.project({0.2, -0.1, 2.0}, &px));
+  EXPECT_DOUBLE_EQ(px.x(), 500.0 * 0.1 + 320.0);
+  EXPECT_DOUBLE_EQ(px.y(), 510.0 * -0.05 + 240.0);
+}
+
+TEST(CameraModel, RejectsPointsBehindCameraAndOutsideImage) {
+  for (const CameraModel& cam : allModels()) {
+    Eigen::Vector2d px;
+    EXPECT_FALSE(cam.project({0.0, 0.0, -1.0}, &px));
+    EXPECT_FALSE(cam.project({0.1, 0.1, 0.0}, &px));
+    EXPECT_FALSE(cam.project({NAN, 0.1, 1.0}, &px));
+    // 85 degrees off-axis horizontally: outside each of these images.
+    EXPECT_FALSE(cam.project({11.43, 0.0, 1.0}, &px));
+    EXPECT_TRUE(cam.project({0.0, 0.0, 1.0}, &px));
+    EXPECT_NEAR(px.x(), cam.cu(), 1e-12);
+    EXPECT_NEAR(px.y(), cam.cv(), 1e-12);
+  }
+  const CameraModel cam = pinhole();
+  Eigen::Vector2d px;
+  EXPECT_FALSE(cam.project({1.0, 0.0, 1.0}, &px));  // u = 820 > 640
+  EXPECT_TRUE(cam.projectAnywhere({1.0, 0.0, 1.0}, &px));
+  EXPECT_NEAR(px.x(), 820.0, 1e-12);
+}
+
+TEST(CameraModel, ProjectUnprojectRoundTrip) {
+  std::mt19937 rng(42);
+  for (const CameraModel& cam : allModels()) {
+    std::uniform_real_distribution<double> u(0.0, cam.width() - 1.0), v(0.0, cam.height() - 1.0),
+        depth(0.3, 30.0);
+    for (int i = 0; i < 2000; ++i) {
+      const Eigen::Vector2d px(u(rng), v(rng));
+      Eigen::Vector3d bearing;
+      if (cam.distortionModel() == DistortionModel::kEquidistant) {
+        // A fisheye image corner can lie beyond 90 degrees off-axis, which has no normalised
+        // coordinates: unprojection must refuse it rather than return a wrong ray.
+        const double theta_d = cam.pixelToDistorted(px).norm();
+        if (theta_d > 1.6) {
+          EXPECT_FALSE(cam.unprojectBearing(px, &bearing));
+          continue;
+        }
+        if (theta_d > 1.4) continue;
+      }
+      ASSERT_TRUE(cam.unprojectBearing(px, &bearing)) << toString(cam.distortionModel()) << " " << px.transpose();
+      EXPECT_NEAR(bearing.norm(), 1.0, 1e-12);
+      const Eigen::Vector3d p = bearing * depth(rng);
+      Eigen::Vector2d back;
+      ASSERT_TRUE(cam.project(p, &back));
+      EXPECT_LT((back - px).norm(), 1e-8) << toString(cam.distortionModel());
+    }
+  }
+}
+
+TEST(CameraModel, ProjectionJacobianMatchesNumerical) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> xy(-0.6, 0.6), z(0.5, 10.0);
+  for (const CameraModel& cam : allModels()) {
+    for (int i = 0; i < 200; ++i) {
+      const Eigen::Vector3d p(xy(rng), xy(rng), z(rng));
+      Eigen::Vector2d px;
+      Eigen::Matrix<double, 2, 3> J;
+      if (!cam.projectAnywhere(p, &px, &J)) continue;
+      Eigen::Matrix<double, 2, 3> Jn;
+      const double h = 1e-6;
+      for (int k = 0; k < 3; ++k) {
+        Eigen::Vector3d dp = Eigen::Vector3d::Zero();
+        dp[k] = h;
+        Eigen::Vector2d a, b;
+        ASSERT_TRUE(cam.projectAnywhere(p + dp, &a));
+        ASSERT_TRUE(cam.projectAnywhere(p - dp, &b));
+        Jn.col(k) = (a - b) / (2 * h);
+      }
+      EXPECT_LT((J - Jn).norm(), 1e-5 * (1.0 + Jn.norm())) << toString(cam.distortionModel()) << "\n"
+                                                           << J << "\n"
+                                                           << Jn;
+    }
+  }
+}
+
+TEST(CameraModel, DistortionJacobianMatchesNumerical) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> xy(-0.9, 0.9);
+  for (const CameraModel& cam : allModels()) {
+    for (int i = 0; i < 200; ++i) {
+      const Eigen::Vector2d p(xy(rng), xy(rng));
+      Eigen::Matrix2d J, Jn;
+      cam.distort(p, &J);
+      const double h = 1e-7;
+      for (int k = 0; k < 2; ++k) {
+        Eigen::Vector2d dp = Eigen::Vector2d::Zero();
+        dp[k] = h;
+        Jn.col(k) = (cam.distort(p + dp) - cam.distort(p - dp)) / (2 * h);
+      }
+      EXPECT_LT((J - Jn).norm(), 1e-6) << toString(cam.distortionModel());
+    }
+  }
+}
+
+TEST(CameraModel, EquidistantJacobianNearOpticalAxis) {
+  const CameraModel cam = fisheye();
+  Eigen::Matrix2d J;
+  cam.distort({1e-12, -1e-12}, &J);
+  EXPECT_LT((J - Eigen::Matrix2d::Identity()).norm(), 1e-9);
+}
+
+TEST(CameraModel, UndistortConvergesOnEurocCam0OverWholeImage) {
+  // Every pixel of a 4-pixel grid plus the exact corners: undistorting then distorting again
+  // must reproduce the distorted coordinates to better than 1e-10.
+  const CameraModel cam = eurocCam0();
+  double worst = 0.0;
+  int count = 0;
+  for (double v = -0.5; v <= cam.height() - 0.5; v += 4.0) {
+    for (double u = -0.5; u <= cam.width() - 0.5; u += 4.0) {
+      const Eigen::Vector2d d = cam.pixelToDistorted({u, v});
+      Eigen::Vector2d n;
+      ASSERT_TRUE(cam.undistort(d, &n)) << u << " " << v;
+      worst = std::max(worst, (cam.distort(n) - d).norm());
+      ++count;
+    }
+  }
+  for (const Eigen::Vector2d& corner : {Eigen::Vector2d(-0.5, -0.5), Eigen::Vector2d(751.5, -0.5),
+                                       Eigen::Vector2d(-0.5, 479.5), Eigen::Vector2d(751.5, 479.5)}) {
+    Eigen::Vector2d n;
+    const Eigen::Vector2d d = cam.pixelToDistorted(corner);
+    ASSERT_TRUE(cam.undistort(d, &n));
+    worst = std::max(worst, (cam.distort(n) - d).norm());
+    // EuRoC's barrel distortion pulls the corners inwards: undistorted lies further out.
+    EXPECT_GT(n.norm(), d.norm());
+  }
+  EXPECT_GT(count, 20000);
+  EXPECT_LT(worst, 1e-10);
+}
+
+TEST(CameraModel, UndistortRejectsNonFiniteInput) {
+  for (const CameraModel& cam : allModels()) {
+    Eigen::Vector2d n;
+    EXPECT_FALSE(cam.undistort({NAN, 0.0}, &n));
+  }
+}
+
+TEST(CameraModel, EquidistantUndistortRoundTripAtWideAngles) {
+  const CameraModel cam = fisheye();
+  for (double deg = 1.0; deg < 85.0; deg += 3.0) {
+    const double r = std::tan(deg * M_PI / 180.0);
+    const Eigen::Vector2d n(r * std::cos(0.3), r * std::sin(0.3));
+    Eigen::Vector2d back;
+    ASSERT_TRUE(cam.undistort(cam.distort(n), &back));
+    EXPECT_LT((back - n).norm(), 1e-9 * (1.0 + r)) << deg;
+  }
+}
+
+TEST(CameraModel, CameraMatrix) {
+  const Eigen::Matrix3d K = eurocCam0().cameraMatrix();
+  EXPECT_DOUBLE_EQ(K(0, 0), 458.654);
+  EXPECT_DOUBLE_EQ(K(1, 1), 457.296);
+  EXPECT_DOUBLE_EQ(K(0, 2), 367.215);
+  EXPECT_DOUBLE_EQ(K(1, 2), 248.375);
+  EXPECT_DOUBLE_EQ(K(2, 2), 1.0);
+}
+
+}  // namespace
+}  // namespace mcvio
