@@ -1,0 +1,592 @@
+#!/usr/bin/env node
+// Independent ROS 2 peer for the mcvio interop test.
+//
+// It speaks RTPS through @foxglove/rtps (no Fast DDS, no ROS 2 install), discovers the DDS
+// participants on a domain, maps their writers back to ROS 2 names and types the way ROS 2 tools
+// do, subscribes to the expected topics, decodes every sample with the ROS 2 Jazzy message
+// definitions from @foxglove/rosmsg-msgs-common and compares every field with the JSON the talker
+// wrote. It also reads ros_discovery_info to find the talker's ROS 2 node.
+//
+// Usage: node peer.js --domain <id> --expected <talker.json> [--timeout <s>] [--address <ipv4>]
+//                     [--verbose]
+//        node peer.js --domain <id> --list [--timeout <s>]   (print the ROS 2 graph and exit 0)
+// Exit status: 0 when everything matched, 1 on any mismatch or timeout, 2 on bad usage.
+"use strict";
+
+const fs = require("fs");
+const { MessageReader } = require("@foxglove/rosmsg2-serialization");
+const { parse: parseMsgDefinition } = require("@foxglove/rosmsg");
+const msgsCommon = require("@foxglove/rosmsg-msgs-common");
+const rtps = require("@foxglove/rtps");
+const { UdpSocketNode, getNetworkInterfaces } = require("@foxglove/rtps/nodejs");
+const { ddsToRosTopic, ddsToRosType, rosTopicToDds, rosTypeToDds } = require("@foxglove/ros2");
+
+const DISCOVERY_TOPIC = "ros_discovery_info";
+const DISCOVERY_DDS_TYPE = "rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_";
+// Large enough to hold a whole fragmented 752x480 image in flight; the kernel caps it at
+// net.core.rmem_max.
+const RECV_BUFFER_BYTES = 8 * 1024 * 1024;
+
+// rmw_dds_common ships with ROS 2 but not with @foxglove/rosmsg-msgs-common; this is the Jazzy
+// layout (Gid became a fixed uint8[16] in Iron).
+const PARTICIPANT_ENTITIES_INFO_MSG = `
+Gid gid
+NodeEntitiesInfo[] node_entities_info_seq
+================================================================================
+MSG: rmw_dds_common/Gid
+uint8[16] data
+================================================================================
+MSG: rmw_dds_common/NodeEntitiesInfo
+string<=256 node_namespace
+string<=256 node_name
+Gid[] reader_gid_seq
+Gid[] writer_gid_seq
+`;
+
+const RELIABILITY_NAMES = { 1: "best_effort", 2: "reliable" };
+const DURABILITY_NAMES = { 0: "volatile", 1: "transient_local", 2: "transient", 3: "persistent" };
+const HISTORY_NAMES = { 0: "keep_last", 1: "keep_all" };
+
+function usage(message) {
+  if (message) {
+    console.error(`peer: ${message}`);
+  }
+  console.error(
+    "usage: node peer.js --domain <id> (--expected <talker.json> | --list) [--timeout <s>] " +
+      "[--address <ipv4>] [--verbose]",
+  );
+  process.exit(2);
+}
+
+function parseArgs(argv) {
+  const opts = { timeoutS: 60, verbose: false, list: false };
+  for (let i = 0; i < argv.length; i++) {
+    const arg = argv[i];
+    const value = () => {
+      if (i + 1 >= argv.length) {
+        usage(`${arg} needs a value`);
+      }
+      return argv[++i];
+    };
+    switch (arg) {
+      case "--domain":
+        opts.domainId = Number(value());
+        break;
+      case "--expected":
+        opts.expectedPath = value();
+        break;
+      case "--timeout":
+        opts.timeoutS = Number(value());
+        break;
+      case "--address":
+        opts.address = value();
+        break;
+      case "--verbose":
+        opts.verbose = true;
+        break;
+      case "--list":
+        opts.list = true;
+        break;
+      default:
+        usage(`unknown argument ${arg}`);
+    }
+  }
+  if (!Number.isInteger(opts.domainId) || opts.domainId < 0 || opts.domainId > 232) {
+    usage("--domain must be an integer in [0, 232]");
+  }
+  if (!(opts.timeoutS > 0)) {
+    usage("--timeout must be a positive number of seconds");
+  }
+  if (!opts.list && opts.expectedPath == undefined) {
+    usage("--expected or --list is required");
+  }
+  return opts;
+}
+
+// The talker's JSON: {node_namespace, node_name, topics: [{name, type, message}]}.
+function loadExpected(path) {
+  let doc;
+  try {
+    doc = JSON.parse(fs.readFileSync(path, "utf8"));
+  } catch (err) {
+    throw new Error(`cannot read expected messages from ${path}: ${err.message}`);
+  }
+  if (typeof doc.node_name !== "string" || typeof doc.node_namespace !== "string") {
+    throw new Error(`${path}: node_name and node_namespace must be strings`);
+  }
+  if (!Array.isArray(doc.topics) || doc.topics.length === 0) {
+    throw new Error(`${path}: topics must be a non-empty array`);
+  }
+  for (const [i, t] of doc.topics.entries()) {
+    if (typeof t.name !== "string" || typeof t.type !== "string" || typeof t.message !== "object") {
+      throw new Error(`${path}: topics[${i}] needs string name, string type and object message`);
+    }
+  }
+  return doc;
+}
+
+// ROS 2 type "pkg/msg/Name" -> the definition list MessageReader wants (root first).
+function definitionsFor(rosType) {
+  const [pkg, kind, name] = rosType.split("/");
+  if (kind !== "msg" || name == undefined) {
+    throw new Error(`unsupported ROS 2 type "${rosType}"`);
+  }
+  const all = msgsCommon.ros2jazzy;
+  const root = all[`${pkg}/${name}`];
+  if (root == undefined) {
+    throw new Error(`@foxglove/rosmsg-msgs-common (ros2jazzy) has no definition of ${rosType}`);
+  }
+  return [root, ...Object.values(all).filter((def) => def !== root)];
+}
+
+function bytesToHex(bytes) {
+  return Buffer.from(bytes.buffer, bytes.byteOffset, bytes.byteLength).toString("hex");
+}
+
+function isBuiltinEntity(entityId) {
+  return (entityId & 0xc0) === 0xc0;
+}
+
+function qosString(endpoint) {
+  const history =
+    endpoint.history.kind === rtps.HistoryKind.KeepLast
+      ? `keep_last(${endpoint.history.depth})`
+      : HISTORY_NAMES[endpoint.history.kind] ?? String(endpoint.history.kind);
+  return (
+    `${RELIABILITY_NAMES[endpoint.reliability.kind] ?? endpoint.reliability.kind}, ` +
+    `${DURABILITY_NAMES[endpoint.durability] ?? endpoint.durability}, ${history}`
+  );
+}
+
+// @foxglove/rtps 1.6 sends reader replies (ACKNACK, NACK_FRAG) to the writer participant's
+// metatraffic locator. Fast DDS only listens for a user writer's replies on its data (default
+// unicast) locators, so reliable repair from a Fast DDS writer stalls. Route replies for user
+// writers to the remote participant's default unicast locators; builtin writers keep metatraffic.
+function routeReaderRepliesToDataLocators(participant) {
+  const dataLocators = (guidPrefix, writerEntityId, fallback) => {
+    if (isBuiltinEntity(writerEntityId)) {
+      return fallback;
+    }
+    const remote = participant._participants.get(guidPrefix);
+    const locators = remote?.attributes.defaultUnicastLocatorList ?? [];
+    return locators.length > 0 ? locators : fallback;
+  };
+  const sendAckNackTo = participant.sendAckNackTo;
+  const sendNackFragTo = participant.sendNackFragTo;
+  if (typeof sendAckNackTo !== "function" || typeof sendNackFragTo !== "function") {
+    throw new Error("@foxglove/rtps changed: Participant.sendAckNackTo/sendNackFragTo not found");
+  }
+  participant.sendAckNackTo = function (reader, guidPrefix, writerId, first, last, final, locs) {
+    const to = dataLocators(guidPrefix, writerId, locs);
+    return sendAckNackTo.call(this, reader, guidPrefix, writerId, first, last, final, to);
+  };
+  participant.sendNackFragTo = function (guidPrefix, lastFrag, readerId, writerId, seq, frags, locs) {
+    const to = dataLocators(guidPrefix, writerId, locs);
+    return sendNackFragTo.call(this, guidPrefix, lastFrag, readerId, writerId, seq, frags, to);
+  };
+}
+
+function describe(value) {
+  if (typeof value === "bigint") {
+    return `${value}n`;
+  }
+  if (ArrayBuffer.isView(value)) {
+    return `${value.constructor.name}(${value.length})`;
+  }
+  if (Array.isArray(value)) {
+    return `array(${value.length})`;
+  }
+  return JSON.stringify(value);
+}
+
+// Field-by-field comparison of a decoded message with the talker's JSON. Numbers must be equal
+// exactly: the talker prints doubles with 17 significant digits, which round-trips.
+function compareFields(expected, actual, path, diffs) {
+  const MAX_DIFFS = 20;
+  const add = (text) => {
+    if (diffs.length < MAX_DIFFS) {
+      diffs.push(text);
+    } else if (diffs.length === MAX_DIFFS) {
+      diffs.push("... (more differences not shown)");
+    }
+  };
+  if (Array.isArray(expected)) {
+    if (!Array.isArray(actual) && !ArrayBuffer.isView(actual)) {
+      add(`${path}: expected an array of ${expected.length}, got ${describe(actual)}`);
+      return;
+    }
+    if (expected.length !== actual.length) {
+      add(`${path}: expected ${expected.length} elements, got ${actual.length}`);
+      return;
+    }
+    let mismatches = 0;
+    for (let i = 0; i < expected.length; i++) {
+      const local = [];
+      compareFields(expected[i], actual[i], `${path}[${i}]`, local);
+      if (local.length > 0) {
+        mismatches++;
+        local.forEach(add);
+      }
+    }
+    if (mismatches > 1) {
+      add(`${path}: ${mismatches} of ${expected.length} elements differ`);
+    }
+    return;
+  }
+  if (expected !== null && typeof expected === "object") {
+    if (actual === null || typeof actual !== "object" || Array.isArray(actual)) {
+      add(`${path}: expected a message, got ${describe(actual)}`);
+      return;
+    }
+    for (const key of Object.keys(expected)) {
+      if (!(key in actual)) {
+        add(`${path}.${key}: in the expected JSON but not in the decoded message`);
+      } else {
+        compareFields(expected[key], actual[key], `${path}.${key}`, diffs);
+      }
+    }
+    for (const key of Object.keys(actual)) {
+      if (!(key in expected)) {
+        add(`${path}.${key}: decoded as ${describe(actual[key])} but missing from the expected JSON`);
+      }
+    }
+    return;
+  }
+  if (typeof expected === "number" && typeof actual === "bigint") {
+    if (!Number.isSafeInteger(expected) || BigInt(expected) !== actual) {
+      add(`${path}: expected ${describe(expected)}, got ${describe(actual)}`);
+    }
+    return;
+  }
+  if (typeof expected !== typeof actual || !Object.is(expected, actual)) {
+    add(`${path}: expected ${describe(expected)}, got ${describe(actual)}`);
+  }
+}
+
+// CDR payload checks that MessageReader does not make: plain CDR little endian, and no bytes
+// left over beyond the alignment padding the encapsulation options announce (leftover bytes mean
+// the sender's layout has fields the ROS 2 definition does not).
+function checkEncapsulation(payload, reader) {
+  const problems = [];
+  if (payload.length < 4) {
+    return [`payload of ${payload.length} bytes has no encapsulation header`];
+  }
+  const kind = (payload[0] << 8) | payload[1];
+  if (kind !== 0x0001) {
+    problems.push(`encapsulation 0x${kind.toString(16).padStart(4, "0")}, expected 0x0001 CDR_LE`);
+  }
+  const padding = payload[3] & 0x03;
+  const leftover = payload.length - reader.lastReadByteLength();
+  if (leftover > padding && leftover >= 4) {
+    problems.push(
+      `${leftover} bytes left after decoding ${reader.lastReadByteLength()} of ${payload.length}`,
+    );
+  }
+  return problems;
+}
+
+async function main() {
+  const opts = parseArgs(process.argv.slice(2));
+  const expected = opts.list ? undefined : loadExpected(opts.expectedPath);
+  const log = (text) => console.log(`[peer] ${text}`);
+
+  // Per expected topic: its DDS names, a reader for its ROS 2 type, and what arrived.
+  const topics = new Map();
+  for (const t of expected?.topics ?? []) {
+    topics.set(rosTopicToDds(t.name), {
+      rosName: t.name,
+      rosType: t.type,
+      ddsType: rosTypeToDds(t.type),
+      reader: new MessageReader(definitionsFor(t.type)),
+      expected: t.message,
+      writers: [],
+      subscribed: false,
+      samples: 0,
+      result: undefined, // "ok" or a list of differences
+    });
+  }
+  const discoveryReader = new MessageReader(
+    parseMsgDefinition(PARTICIPANT_ENTITIES_INFO_MSG, { ros2: true }),
+  );
+  const discovery = { subscribed: false, samples: 0, lastInfo: new Map(), nodeFound: undefined };
+  const participantsSeen = new Map();
+  const writersSeen = new Map();
+  const failures = [];
+
+  const address = opts.address ?? rtps.selectIPv4(getNetworkInterfaces());
+  const participant = new rtps.Participant({
+    name: "mcvio_interop_peer",
+    addresses: [address],
+    domainId: opts.domainId,
+    udpSocketCreate: UdpSocketNode.Create,
+    udpSocketOptions: { type: "udp4", reuseAddr: true, recvBufferSize: RECV_BUFFER_BYTES },
+    log: opts.verbose
+      ? {
+          debug: () => {},
+          info: (m) => console.log(`[rtps] ${m}`),
+          warn: (m) => console.log(`[rtps] WARN ${m}`),
+          error: (m) => console.log(`[rtps] ERROR ${m}`),
+        }
+      : undefined,
+  });
+  routeReaderRepliesToDataLocators(participant);
+  participant.on("error", (err) => {
+    if (opts.verbose) log(`rtps error: ${err.message}`);
+  });
+
+  participant.on("discoveredParticipant", (p) => {
+    participantsSeen.set(p.guidPrefix, p);
+    log(`participant ${p.guidPrefix} vendor 0x${p.vendorId.toString(16)} ` +
+      `user_data "${p.userData ?? ""}"`);
+  });
+
+  const subscribeLike = (topicName, typeName, writer) => {
+    // Participant.subscribe accepts any QoS; ask for exactly what the writer offers so a best
+    // effort or volatile writer matches as it would with a ROS 2 subscriber of the same profile.
+    participant.subscribe({
+      topicName,
+      typeName,
+      reliability: { kind: writer.reliability.kind, maxBlockingTime: { sec: 0, nsec: 100000000 } },
+      durability: writer.durability,
+      history: {
+        kind: rtps.HistoryKind.KeepLast,
+        depth: Math.max(1, writer.history.kind === rtps.HistoryKind.KeepLast ? writer.history.depth : 1),
+      },
+    });
+  };
+
+  participant.on("discoveredPublication", (w) => {
+    const guid = rtps.makeGuid(w.guidPrefix, w.entityId);
+    const isNew = !writersSeen.has(guid);
+    writersSeen.set(guid, w);
+    if (!isNew || w.topicName == undefined) {
+      return;
+    }
+    const rosTopic = ddsToRosTopic(w.topicName);
+    const rosType = ddsToRosType(w.typeName);
+    log(`writer ${guid}: DDS ${w.topicName} [${w.typeName}] -> ROS ` +
+      `${rosTopic ? rosTopic.topic : "(not a ROS topic)"} [${rosType ?? "(not a ROS type)"}] ` +
+      `qos(${qosString(w)}) user_data "${w.userData ?? ""}"`);
+
+    if (opts.list) {
+      return;
+    }
+    if (w.topicName === DISCOVERY_TOPIC) {
+      if (w.typeName !== DISCOVERY_DDS_TYPE) {
+        failures.push(`${DISCOVERY_TOPIC} writer ${guid} has type ${w.typeName}, ` +
+          `expected ${DISCOVERY_DDS_TYPE}`);
+      } else if (!discovery.subscribed) {
+        discovery.subscribed = true;
+        // ROS 2 nodes read the graph reliable + transient local, keep last 1 (rmw_dds_common).
+        participant.subscribe({
+          topicName: DISCOVERY_TOPIC,
+          typeName: DISCOVERY_DDS_TYPE,
+          reliability: { kind: rtps.Reliability.Reliable, maxBlockingTime: { sec: 0, nsec: 100000000 } },
+          durability: rtps.Durability.TransientLocal,
+          history: { kind: rtps.HistoryKind.KeepLast, depth: 1 },
+        });
+      }
+      return;
+    }
+    const topic = topics.get(w.topicName);
+    if (topic == undefined) {
+      return;
+    }
+    topic.writers.push(w);
+    if (w.typeName !== topic.ddsType) {
+      topic.result = [`writer ${guid} on ${w.topicName} has DDS type ${w.typeName}, ` +
+        `a ROS 2 ${topic.rosType} subscriber needs ${topic.ddsType}`];
+      return;
+    }
+    if (!topic.subscribed) {
+      topic.subscribed = true;
+      subscribeLike(w.topicName, w.typeName, w);
+    }
+  });
+
+  let finish;
+  const done = new Promise((resolve) => (finish = resolve));
+  const checkDone = () => {
+    if (opts.list) return;
+    const allTopics = [...topics.values()].every((t) => t.result !== undefined);
+    if (allTopics && discovery.nodeFound !== undefined) finish("complete");
+  };
+
+  participant.on("userData", (data) => {
+    const topicName = data.subscription.topicName;
+    const payload = data.serializedData;
+    if (topicName === DISCOVERY_TOPIC) {
+      discovery.samples++;
+      let info;
+      try {
+        info = discoveryReader.readMessage(payload);
+      } catch (err) {
+        failures.push(`${DISCOVERY_TOPIC}: cannot decode a ${payload.length} byte sample as ` +
+          `Jazzy ParticipantEntitiesInfo: ${err.message}`);
+        finish("decode error");
+        return;
+      }
+      const problems = checkEncapsulation(payload, discoveryReader);
+      if (problems.length > 0) {
+        failures.push(`${DISCOVERY_TOPIC}: ${problems.join("; ")}`);
+      }
+      const writerGuid = rtps.makeGuid(data.publication.guidPrefix, data.publication.entityId);
+      discovery.lastInfo.set(writerGuid, info);
+      evaluateDiscovery(info, data.publication.guidPrefix);
+      checkDone();
+      return;
+    }
+    const topic = topics.get(topicName);
+    if (topic == undefined || topic.result === "ok") {
+      return;
+    }
+    topic.samples++;
+    let msg;
+    try {
+      msg = topic.reader.readMessage(payload);
+    } catch (err) {
+      topic.result = [`cannot decode a ${payload.length} byte sample as ${topic.rosType}: ${err.message}`];
+      checkDone();
+      return;
+    }
+    const diffs = checkEncapsulation(payload, topic.reader);
+    compareFields(topic.expected, msg, topic.rosName, diffs);
+    topic.result = diffs.length === 0 ? "ok" : diffs;
+    log(`${topic.rosName}: sample ${topic.samples} (${payload.length} bytes) ` +
+      (diffs.length === 0 ? "matches the talker's JSON field by field" : `has ${diffs.length} difference(s)`));
+    checkDone();
+  });
+
+  // The talker's node must be listed by its participant, and every expected topic's writer must
+  // be in the node's writer_gid_seq (that is how `ros2 node info` finds a node's publishers).
+  function evaluateDiscovery(info, senderPrefix) {
+    const participantGid = bytesToHex(info.gid.data);
+    const expectedParticipantGid = rtps.makeGuid(senderPrefix, rtps.EntityIdBuiltin.Participant);
+    const nodes = info.node_entities_info_seq.map((n) => ({
+      namespace: n.node_namespace,
+      name: n.node_name,
+      writers: new Set(n.writer_gid_seq.map((g) => bytesToHex(g.data))),
+      readers: n.reader_gid_seq.length,
+    }));
+    log(`${DISCOVERY_TOPIC} from ${senderPrefix}: gid ${participantGid}, nodes ` +
+      (nodes.map((n) => `${n.namespace === "/" ? "" : n.namespace}/${n.name} ` +
+        `(${n.writers.size} writers, ${n.readers} readers)`).join(", ") || "(none)"));
+    if (opts.list || expected == undefined) return;
+    const node = nodes.find((n) => n.name === expected.node_name && n.namespace === expected.node_namespace);
+    if (node == undefined) return;
+    const problems = [];
+    if (participantGid !== expectedParticipantGid) {
+      problems.push(`ParticipantEntitiesInfo.gid is ${participantGid}, the sending participant's ` +
+        `GUID is ${expectedParticipantGid}`);
+    }
+    for (const t of topics.values()) {
+      for (const w of t.writers.filter((x) => x.guidPrefix === senderPrefix)) {
+        const gid = rtps.makeGuid(w.guidPrefix, w.entityId);
+        if (!node.writers.has(gid)) {
+          problems.push(`writer ${gid} of ${t.rosName} is not in ${expected.node_name}'s writer_gid_seq`);
+        }
+      }
+    }
+    // A later sample may add writers created after the first one was sent: keep the latest verdict.
+    discovery.nodeProblems = problems;
+    if (problems.length === 0) discovery.nodeFound = node;
+  }
+
+  log(`domain ${opts.domainId}, advertising ${address}, timeout ${opts.timeoutS} s`);
+  await participant.start();
+  for (const socket of [participant.unicastSocket, participant.multicastSocket]) {
+    const raw = socket?._socket;
+    if (raw != undefined && opts.verbose) {
+      log(`socket receive buffer ${raw.getRecvBufferSize()} bytes`);
+    }
+  }
+  // Re-announce ourselves now and then: a participant that starts after us learns of us from
+  // its own multicast announcement, but one whose first multicast packet we missed does not.
+  const announceTimer = setInterval(() => void participant.broadcastParticipant(participant.attributes), 1000);
+
+  const timer = setTimeout(() => finish("timeout"), opts.timeoutS * 1000);
+  const outcome = await done;
+  clearTimeout(timer);
+  clearInterval(announceTimer);
+
+  // Report.
+  let ok = outcome === "complete" && failures.length === 0;
+  if (opts.list) {
+    await participant.shutdown();
+    return 0;
+  }
+  console.log(`\n[peer] result (${outcome}):`);
+  const talkerPrefixes = new Set([...topics.values()].flatMap((t) => t.writers.map((w) => w.guidPrefix)));
+  if (talkerPrefixes.size === 0) {
+    ok = false;
+    console.log(`  FAIL no writer of any expected topic was discovered on domain ${opts.domainId} ` +
+      `(${participantsSeen.size} participant(s) seen)`);
+  }
+  for (const prefix of talkerPrefixes) {
+    const p = participantsSeen.get(prefix);
+    const userData = p?.userData ?? "";
+    if (!/(^|;)enclave=\/;/.test(userData)) {
+      ok = false;
+      console.log(`  FAIL participant ${prefix} user_data is "${userData}", ROS 2 expects "enclave=/;"`);
+    } else {
+      console.log(`  ok   participant ${prefix} user_data "${userData}"`);
+    }
+  }
+  for (const t of topics.values()) {
+    for (const w of t.writers) {
+      const guid = rtps.makeGuid(w.guidPrefix, w.entityId);
+      if (!/(^|;)typehash=RIHS01_[0-9a-f]{64};/.test(w.userData ?? "")) {
+        ok = false;
+        console.log(`  FAIL writer ${guid} of ${t.rosName} user_data is "${w.userData ?? ""}", ` +
+          "expected typehash=RIHS01_<64 hex>;");
+      }
+    }
+    if (t.result === "ok") {
+      const w = t.writers[0];
+      console.log(`  ok   ${t.rosName} [${t.rosType}] qos(${qosString(w)}): all fields equal`);
+    } else {
+      ok = false;
+      if (t.result === undefined) {
+        const why = t.writers.length === 0
+          ? `no writer on DDS topic ${rosTopicToDds(t.rosName)} discovered`
+          : `writer discovered, no sample received`;
+        console.log(`  FAIL ${t.rosName} [${t.rosType}]: ${why}`);
+      } else {
+        console.log(`  FAIL ${t.rosName} [${t.rosType}]:`);
+        for (const d of t.result) console.log(`         ${d}`);
+      }
+    }
+  }
+  if (discovery.nodeFound !== undefined) {
+    const n = discovery.nodeFound;
+    console.log(`  ok   ${DISCOVERY_TOPIC}: node ${n.namespace === "/" ? "" : n.namespace}/${n.name} ` +
+      `with ${n.writers.size} writer gid(s) covering all expected topics`);
+  } else {
+    ok = false;
+    if (!discovery.subscribed) {
+      console.log(`  FAIL ${DISCOVERY_TOPIC}: no writer discovered`);
+    } else if (discovery.samples === 0) {
+      console.log(`  FAIL ${DISCOVERY_TOPIC}: writer discovered, no sample received`);
+    } else if (discovery.nodeProblems !== undefined) {
+      console.log(`  FAIL ${DISCOVERY_TOPIC}: node ${expected.node_name} found but:`);
+      for (const d of discovery.nodeProblems) console.log(`         ${d}`);
+    } else {
+      console.log(`  FAIL ${DISCOVERY_TOPIC}: no node ${expected.node_namespace} ${expected.node_name} ` +
+        `in ${discovery.samples} sample(s)`);
+    }
+  }
+  for (const f of failures) {
+    console.log(`  FAIL ${f}`);
+  }
+  console.log(ok ? "[peer] PASS" : "[peer] FAIL");
+  await participant.shutdown();
+  return ok ? 0 : 1;
+}
+
+main().then(
+  (code) => process.exit(code),
+  (err) => {
+    console.error(`[peer] error: ${err.stack ?? err}`);
+    process.exit(1);
+  },
+);
