@@ -13,11 +13,12 @@
 
 const fs = require("fs");
 const { MessageWriter } = require("@foxglove/rosmsg2-serialization");
-const { parse: parseMsgDefinition } = require("@foxglove/rosmsg");
+const rmwDdsCommon = require("./rmw_dds_common");
 const msgsCommon = require("@foxglove/rosmsg-msgs-common");
 const rtps = require("@foxglove/rtps");
 const { UdpSocketNode, getNetworkInterfaces } = require("@foxglove/rtps/nodejs");
 const { rosTopicToDds, rosTypeToDds } = require("@foxglove/ros2");
+const { typeHash } = require("./rihs01");
 
 const NODE_NAME = "interop_talker";
 
@@ -161,7 +162,7 @@ async function main() {
   const userWriters = [];
   let nextId = 0x100;
 
-  const addWriter = (topicName, typeName, qos) => {
+  const addWriter = (topicName, typeName, qos, hash) => {
     const entityId = rtps.makeEntityId(nextId++, rtps.EntityKind.AppdefWriterNoKey);
     const attributes = {
       guidPrefix: prefix,
@@ -189,8 +190,7 @@ async function main() {
     params.protocolVersion(attributes.protocolVersion);
     params.vendorId(attributes.vendorId);
     params.endpointGuid(guid);
-    // Not a real type hash: this talker only exercises the peer's user_data parsing.
-    params.userDataString(`typehash=RIHS01_${"0123456789abcdef".repeat(4)};`);
+    params.userDataString(`typehash=${hash};`);
     params.finish();
     pubWriter.history.set({
       timestamp: now(),
@@ -216,15 +216,17 @@ async function main() {
   };
 
   const topics = MESSAGES.map((m) => {
-    const writer = addWriter(rosTopicToDds(m.name), rosTypeToDds(m.type), QOS[m.qos]);
+    const writer = addWriter(rosTopicToDds(m.name), rosTypeToDds(m.type), QOS[m.qos],
+      typeHash(m.type, msgsCommon.ros2jazzy));
     const payload = new MessageWriter(definitionsFor(m.type)).writeMessage(m.message);
     return { ...m, writer, payload };
   });
 
   const discoveryWriter = addWriter(
     "ros_discovery_info",
-    "rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_",
+    rmwDdsCommon.DDS_TYPE,
     QOS.latched,
+    typeHash(rmwDdsCommon.ROS_TYPE, rmwDdsCommon.rmwDdsCommonLookup()),
   );
   const gidOf = (entityId) => ({ data: Buffer.from(rtps.makeGuid(prefix, entityId), "hex") });
   const info = {
@@ -238,10 +240,7 @@ async function main() {
       },
     ],
   };
-  const infoDefs = parseMsgDefinition(
-    fs.readFileSync(require.resolve("./peer.js"), "utf8").match(/const PARTICIPANT_ENTITIES_INFO_MSG = `([^`]*)`/)[1],
-    { ros2: true },
-  );
+  const infoDefs = rmwDdsCommon.participantEntitiesInfoDefinitions();
   write(discoveryWriter, new MessageWriter(infoDefs).writeMessage(info));
 
   // Remote readers are matched to our writers by hand: @foxglove/rtps only matches its readers.

@@ -15,33 +15,19 @@
 
 const fs = require("fs");
 const { MessageReader } = require("@foxglove/rosmsg2-serialization");
-const { parse: parseMsgDefinition } = require("@foxglove/rosmsg");
 const msgsCommon = require("@foxglove/rosmsg-msgs-common");
 const rtps = require("@foxglove/rtps");
 const { UdpSocketNode, getNetworkInterfaces } = require("@foxglove/rtps/nodejs");
 const { ddsToRosTopic, ddsToRosType, rosTopicToDds, rosTypeToDds } = require("@foxglove/ros2");
+const { typeHash } = require("./rihs01");
+const rmwDdsCommon = require("./rmw_dds_common");
 
 const DISCOVERY_TOPIC = "ros_discovery_info";
-const DISCOVERY_DDS_TYPE = "rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_";
+const DISCOVERY_DDS_TYPE = rmwDdsCommon.DDS_TYPE;
 // Large enough to hold a whole fragmented 752x480 image in flight; the kernel caps it at
 // net.core.rmem_max.
 const RECV_BUFFER_BYTES = 8 * 1024 * 1024;
 
-// rmw_dds_common ships with ROS 2 but not with @foxglove/rosmsg-msgs-common; this is the Jazzy
-// layout (Gid became a fixed uint8[16] in Iron).
-const PARTICIPANT_ENTITIES_INFO_MSG = `
-Gid gid
-NodeEntitiesInfo[] node_entities_info_seq
-================================================================================
-MSG: rmw_dds_common/Gid
-uint8[16] data
-================================================================================
-MSG: rmw_dds_common/NodeEntitiesInfo
-string<=256 node_namespace
-string<=256 node_name
-Gid[] reader_gid_seq
-Gid[] writer_gid_seq
-`;
 
 const RELIABILITY_NAMES = { 1: "best_effort", 2: "reliable" };
 const DURABILITY_NAMES = { 0: "volatile", 1: "transient_local", 2: "transient", 3: "persistent" };
@@ -137,6 +123,21 @@ function definitionsFor(rosType) {
     throw new Error(`@foxglove/rosmsg-msgs-common (ros2jazzy) has no definition of ${rosType}`);
   }
   return [root, ...Object.values(all).filter((def) => def !== root)];
+}
+
+// The writer's user_data must carry the RIHS01 hash ROS 2 Iron+ computes for its type.
+function checkTypeHash(writer, rosType, lookup) {
+  const guid = rtps.makeGuid(writer.guidPrefix, writer.entityId);
+  const userData = writer.userData ?? "";
+  const match = /(?:^|;)typehash=(RIHS01_[0-9a-f]{64});/.exec(userData);
+  if (match == undefined) {
+    return `writer ${guid} user_data is "${userData}", expected typehash=RIHS01_<64 hex>;`;
+  }
+  const expectedHash = typeHash(rosType, lookup);
+  if (match[1] !== expectedHash) {
+    return `writer ${guid} announces ${match[1]} for ${rosType}, its RIHS01 hash is ${expectedHash}`;
+  }
+  return undefined;
 }
 
 function bytesToHex(bytes) {
@@ -306,9 +307,11 @@ async function main() {
     });
   }
   const discoveryReader = new MessageReader(
-    parseMsgDefinition(PARTICIPANT_ENTITIES_INFO_MSG, { ros2: true }),
+    rmwDdsCommon.participantEntitiesInfoDefinitions(),
   );
-  const discovery = { subscribed: false, samples: 0, lastInfo: new Map(), nodeFound: undefined };
+  // Fail before any networking if a type cannot be hashed (e.g. missing from msgs-common).
+  for (const t of topics.values()) typeHash(t.rosType, msgsCommon.ros2jazzy);
+  const discovery = { subscribed: false, samples: 0, writers: [], nodeFound: undefined };
   const participantsSeen = new Map();
   const writersSeen = new Map();
   const failures = [];
@@ -372,6 +375,7 @@ async function main() {
       return;
     }
     if (w.topicName === DISCOVERY_TOPIC) {
+      discovery.writers.push(w);
       if (w.typeName !== DISCOVERY_DDS_TYPE) {
         failures.push(`${DISCOVERY_TOPIC} writer ${guid} has type ${w.typeName}, ` +
           `expected ${DISCOVERY_DDS_TYPE}`);
@@ -430,8 +434,6 @@ async function main() {
       if (problems.length > 0) {
         failures.push(`${DISCOVERY_TOPIC}: ${problems.join("; ")}`);
       }
-      const writerGuid = rtps.makeGuid(data.publication.guidPrefix, data.publication.entityId);
-      discovery.lastInfo.set(writerGuid, info);
       evaluateDiscovery(info, data.publication.guidPrefix);
       checkDone();
       return;
@@ -534,11 +536,10 @@ async function main() {
   }
   for (const t of topics.values()) {
     for (const w of t.writers) {
-      const guid = rtps.makeGuid(w.guidPrefix, w.entityId);
-      if (!/(^|;)typehash=RIHS01_[0-9a-f]{64};/.test(w.userData ?? "")) {
+      const problem = checkTypeHash(w, t.rosType, msgsCommon.ros2jazzy);
+      if (problem !== undefined) {
         ok = false;
-        console.log(`  FAIL writer ${guid} of ${t.rosName} user_data is "${w.userData ?? ""}", ` +
-          "expected typehash=RIHS01_<64 hex>;");
+        console.log(`  FAIL ${t.rosName}: ${problem}`);
       }
     }
     if (t.result === "ok") {
@@ -555,6 +556,13 @@ async function main() {
         console.log(`  FAIL ${t.rosName} [${t.rosType}]:`);
         for (const d of t.result) console.log(`         ${d}`);
       }
+    }
+  }
+  for (const w of discovery.writers.filter((x) => talkerPrefixes.has(x.guidPrefix))) {
+    const problem = checkTypeHash(w, rmwDdsCommon.ROS_TYPE, rmwDdsCommon.rmwDdsCommonLookup());
+    if (problem !== undefined) {
+      ok = false;
+      console.log(`  FAIL ${DISCOVERY_TOPIC}: ${problem}`);
     }
   }
   if (discovery.nodeFound !== undefined) {
