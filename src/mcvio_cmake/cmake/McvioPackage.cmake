@@ -15,6 +15,9 @@ set(CMAKE_EXPORT_COMPILE_COMMANDS ON)
 option(MCVIO_BUILD_TESTS "Build the package's tests" ON)
 option(MCVIO_BUILD_BENCHMARKS "Build the package's Google Benchmarks" ON)
 option(MCVIO_WERROR "Treat warnings as errors" OFF)
+if(MCVIO_BUILD_TESTS)
+  enable_testing()
+endif()
 
 # mcvio_add_library(NAME SOURCES src... PUBLIC_DEPS targets... PRIVATE_DEPS targets...)
 # Builds a shared library whose headers live in include/, installs and exports it as mcvio::NAME.
