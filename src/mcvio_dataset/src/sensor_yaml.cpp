@@ -1,0 +1,255 @@
+#include "mcvio/dataset/sensor_yaml.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+#include "mcvio/core/input_error.hpp"
+#include "number_format.hpp"
+
+namespace mcvio::dataset {
+
+namespace {
+
+using detail::appendDouble;
+using detail::formatDouble;
+
+// A sensor.yaml being read: every error names the file, and the key and line where known.
+class YamlFile {
+ public:
+  explicit YamlFile(std::string path) : path_(std::move(path)) {
+    try {
+      root_ = YAML::LoadFile(path_);
+    } catch (const YAML::BadFile&) {
+      throw InputError(path_ + ": cannot open file (missing or unreadable)");
+    } catch (const YAML::ParserException& e) {
+      throw InputError(path_ + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
+    }
+    if (!root_.IsMap()) throw InputError(path_ + ": expected a YAML map of sensor keys");
+  }
+
+  YAML::Node require(const YAML::Node& parent, const std::string& key) const {
+    const YAML::Node node = parent[key];
+    if (!node) throw InputError(path_ + ": missing key '" + key + "'");
+    return node;
+  }
+  YAML::Node require(const std::string& key) const { return require(root_, key); }
+  bool has(const std::string& key) const { return static_cast<bool>(root_[key]); }
+
+  [[noreturn]] void fail(const YAML::Node& node, const std::string& key, const std::string& what) const {
+    const YAML::Mark mark = node.Mark();
+    const std::string line = mark.line >= 0 ? ":" + std::to_string(mark.line + 1) : "";
+    throw InputError(path_ + line + ": key '" + key + "' " + what);
+  }
+
+  double number(const YAML::Node& node, const std::string& key) const {
+    double value = 0.0;
+    try {
+      if (!node.IsScalar()) fail(node, key, "must be a number");
+      value = node.as<double>();
+    } catch (const YAML::Exception&) {
+      fail(node, key, "must be a number, got '" + node.Scalar() + "'");
+    }
+    if (!std::isfinite(value)) fail(node, key, "must be finite");
+    return value;
+  }
+  double number(const std::string& key) const { return number(require(key), key); }
+
+  double positive(const std::string& key) const {
+    const YAML::Node node = require(key);
+    const double value = number(node, key);
+    if (!(value > 0.0)) fail(node, key, "must be positive, got " + formatDouble(value));
+    return value;
+  }
+
+  std::string text(const std::string& key) const {
+    const YAML::Node node = require(key);
+    if (!node.IsScalar()) fail(node, key, "must be a string");
+    return node.Scalar();
+  }
+
+  std::vector<double> numbers(const YAML::Node& node, const std::string& key,
+                              std::size_t min_count, std::size_t max_count) const {
+    if (!node.IsSequence()) fail(node, key, "must be a list of numbers");
+    if (node.size() < min_count || node.size() > max_count) {
+      fail(node, key,
+           "must have " + std::to_string(min_count) +
+               (max_count != min_count ? "-" + std::to_string(max_count) : std::string()) +
+               " values, got " + std::to_string(node.size()));
+    }
+    std::vector<double> values;
+    for (const auto& item : node) values.push_back(number(item, key));
+    return values;
+  }
+
+  Eigen::Isometry3d transform(const std::string& key) const {
+    const YAML::Node node = require(key);
+    if (!node.IsMap()) fail(node, key, "must be a map with rows, cols and data");
+    for (const char* dim : {"rows", "cols"}) {
+      if (node[dim] && number(node[dim], key + "." + dim) != 4.0) fail(node[dim], key + "." + dim, "must be 4");
+    }
+    const std::string data_key = key + ".data";
+    const std::vector<double> d = numbers(require(node, "data"), data_key, 16, 16);
+    Eigen::Matrix4d m;
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) m(r, c) = d[4 * r + c];
+    if ((m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).norm() > 1e-9) {
+      fail(node["data"], data_key, "last row must be [0, 0, 0, 1]");
+    }
+    const Eigen::Matrix3d R = m.topLeftCorner<3, 3>();
+    const double orthogonality = (R.transpose() * R - Eigen::Matrix3d::Identity()).norm();
+    if (orthogonality > 1e-5 || R.determinant() < 0.0) {
+      fail(node["data"], data_key, "rotation part is not a rotation matrix (|R^T R - I| = " +
+                                       formatDouble(orthogonality) + ")");
+    }
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.matrix() = m;
+    return T;
+  }
+
+ private:
+  std::string path_;
+  YAML::Node root_;
+};
+
+void appendTransform(std::string& out, const Eigen::Isometry3d& T) {
+  out += "T_BS:\n  cols: 4\n  rows: 4\n  data: [";
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) {
+      appendDouble(out, T.matrix()(r, c));
+      if (r < 3 || c < 3) out += (c == 3) ? ",\n         " : ", ";
+    }
+  }
+  out += "]\n";
+}
+
+void writeText(const std::string& path, const std::string& text) {
+  std::ofstream file(path, std::ios::binary | std::ios::trunc);
+  file << text;
+  file.close();
+  if (!file) throw InputError(path + ": cannot write file");
+}
+
+}  // namespace
+
+CameraCalibration SensorYaml::readCamera(const std::string& path, const std::string& name) {
+  const YamlFile yaml(path);
+  CameraCalibration calibration;
+  calibration.name = name;
+  calibration.T_BC = yaml.transform("T_BS");
+  calibration.rate_hz = yaml.positive("rate_hz");
+  if (yaml.has("camera_model")) {
+    const std::string model = yaml.text("camera_model");
+    if (model != "pinhole") {
+      throw InputError(path + ": key 'camera_model': '" + model + "' is not supported (only pinhole)");
+    }
+  }
+  const YAML::Node res_node = yaml.require("resolution");
+  const std::vector<double> res = yaml.numbers(res_node, "resolution", 2, 2);
+  for (double v : res) {
+    if (v < 1.0 || v != std::floor(v) || v > 1e6) {
+      yaml.fail(res_node, "resolution", "must be two positive integers [width, height]");
+    }
+  }
+  const std::vector<double> in = yaml.numbers(yaml.require("intrinsics"), "intrinsics", 4, 4);
+  DistortionModel model;
+  try {
+    model = distortionModelFromString(yaml.text("distortion_model"));
+  } catch (const InputError& e) {
+    throw InputError(path + ": key 'distortion_model': " + e.what());
+  }
+  Eigen::Vector4d coefficients = Eigen::Vector4d::Zero();
+  if (model != DistortionModel::kNone || yaml.has("distortion_coefficients")) {
+    const YAML::Node node = yaml.require("distortion_coefficients");
+    // radial-tangential may carry a fifth coefficient k3 in some calibrations; only zero is
+    // representable by this model.
+    const std::size_t max_count = model == DistortionModel::kRadialTangential ? 5 : 4;
+    const std::size_t min_count = model == DistortionModel::kNone ? 0 : 4;
+    const std::vector<double> d = yaml.numbers(node, "distortion_coefficients", min_count, max_count);
+    if (d.size() == 5 && d[4] != 0.0) {
+      yaml.fail(node, "distortion_coefficients", "has a non-zero k3, which radial-tangential does not model");
+    }
+    if (model == DistortionModel::kNone) {
+      for (double v : d) {
+        if (v != 0.0) yaml.fail(node, "distortion_coefficients", "must be zero for distortion_model none");
+      }
+    } else {
+      coefficients = Eigen::Vector4d(d[0], d[1], d[2], d[3]);
+    }
+  }
+  try {
+    calibration.model = CameraModel(static_cast<int>(res[0]), static_cast<int>(res[1]),
+                                    Eigen::Vector4d(in[0], in[1], in[2], in[3]), model, coefficients);
+  } catch (const InputError& e) {
+    throw InputError(path + ": " + e.what());
+  }
+  return calibration;
+}
+
+ImuCalibration SensorYaml::readImu(const std::string& path, const std::string& name) {
+  const YamlFile yaml(path);
+  ImuCalibration calibration;
+  calibration.name = name;
+  calibration.T_BS = yaml.transform("T_BS");
+  calibration.noise.rate_hz = yaml.positive("rate_hz");
+  calibration.noise.gyroscope_noise_density = yaml.positive("gyroscope_noise_density");
+  calibration.noise.gyroscope_random_walk = yaml.positive("gyroscope_random_walk");
+  calibration.noise.accelerometer_noise_density = yaml.positive("accelerometer_noise_density");
+  calibration.noise.accelerometer_random_walk = yaml.positive("accelerometer_random_walk");
+  return calibration;
+}
+
+void SensorYaml::writeCamera(const std::string& path, const CameraCalibration& calibration) {
+  const CameraModel& m = calibration.model;
+  std::string out = "%YAML:1.0\n# General sensor definitions.\nsensor_type: camera\ncomment: " +
+                    calibration.name + " (written by mcvio)\n\n# Sensor extrinsics wrt. the body-frame.\n";
+  appendTransform(out, calibration.T_BC);
+  out += "\n# Camera specific definitions.\nrate_hz: ";
+  appendDouble(out, calibration.rate_hz);
+  out += "\nresolution: [" + std::to_string(m.width()) + ", " + std::to_string(m.height()) + "]\n";
+  out += "camera_model: pinhole\nintrinsics: [";
+  for (int i = 0; i < 4; ++i) {
+    appendDouble(out, m.intrinsics()[i]);
+    out += i < 3 ? ", " : "] #fu, fv, cu, cv\n";
+  }
+  out += std::string("distortion_model: ") + toString(m.distortionModel()) + "\ndistortion_coefficients: [";
+  if (m.distortionModel() != DistortionModel::kNone) {
+    for (int i = 0; i < 4; ++i) {
+      appendDouble(out, m.distortionCoefficients()[i]);
+      if (i < 3) out += ", ";
+    }
+  }
+  out += "]\n";
+  writeText(path, out);
+}
+
+void SensorYaml::writeImu(const std::string& path, const ImuCalibration& calibration) {
+  const ImuNoiseParams& n = calibration.noise;
+  std::string out = "%YAML:1.0\nsensor_type: imu\ncomment: " + calibration.name +
+                    " (written by mcvio)\n\n# Sensor extrinsics wrt. the body-frame.\n";
+  appendTransform(out, calibration.T_BS);
+  out += "rate_hz: ";
+  appendDouble(out, n.rate_hz);
+  out += "\n\n# inertial sensor noise model parameters (static)\ngyroscope_noise_density: ";
+  appendDouble(out, n.gyroscope_noise_density);
+  out += "     # [ rad / s / sqrt(Hz) ]\ngyroscope_random_walk: ";
+  appendDouble(out, n.gyroscope_random_walk);
+  out += "       # [ rad / s^2 / sqrt(Hz) ]\naccelerometer_noise_density: ";
+  appendDouble(out, n.accelerometer_noise_density);
+  out += "  # [ m / s^2 / sqrt(Hz) ]\naccelerometer_random_walk: ";
+  appendDouble(out, n.accelerometer_random_walk);
+  out += "    # [ m / s^3 / sqrt(Hz) ]\n";
+  writeText(path, out);
+}
+
+void SensorYaml::writePoseSensor(const std::string& path, const std::string& sensor_type,
+                                 const std::string& comment, const Eigen::Isometry3d& T_BS) {
+  std::string out = "%YAML:1.0\n# General sensor definitions.\nsensor_type: " + sensor_type +
+                    "\ncomment: " + comment + "\n\n# Sensor extrinsics wrt. the body-frame.\n";
+  appendTransform(out, T_BS);
+  writeText(path, out);
+}
+
+}  // namespace mcvio::dataset

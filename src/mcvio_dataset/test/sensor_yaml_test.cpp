@@ -1,0 +1,79 @@
+#include "mcvio/dataset/sensor_yaml.hpp"
+
+#include <gtest/gtest.h>
+
+#include "mcvio/core/input_error.hpp"
+#include "test_sequence.hpp"
+
+namespace mcvio::dataset {
+namespace {
+
+const char* kCameraYaml = R"(%YAML:1.0
+sensor_type: camera
+T_BS:
+  cols: 4
+  rows: 4
+  data: [1, 0, 0, 0.5,
+         0, 1, 0, 0,
+         0, 0, 1, 0,
+         0, 0, 0, 1]
+rate_hz: 30
+resolution: [640, 480]
+camera_model: pinhole
+intrinsics: [400, 401, 320, 240]
+distortion_model: radtan
+distortion_coefficients: [-0.1, 0.01, 0.001, -0.002, 0.0]
+)";
+
+TEST(SensorYaml, ReadsFiveCoefficientRadtanWithZeroK3) {
+  const std::string path = test::freshDir("yaml_k3") + "/sensor.yaml";
+  test::writeText(path, kCameraYaml);
+  const CameraCalibration cam = SensorYaml::readCamera(path, "left");
+  EXPECT_EQ(cam.name, "left");
+  EXPECT_EQ(cam.rate_hz, 30.0);
+  EXPECT_EQ(cam.model.width(), 640);
+  EXPECT_EQ(cam.model.distortionModel(), DistortionModel::kRadialTangential);
+  EXPECT_EQ(cam.model.distortionCoefficients(), Eigen::Vector4d(-0.1, 0.01, 0.001, -0.002));
+  EXPECT_EQ(cam.T_BC.translation().x(), 0.5);
+
+  std::string text = kCameraYaml;
+  text.replace(text.find("-0.002, 0.0]"), 12, "-0.002, 0.3]");
+  test::writeText(path, text);
+  try {
+    SensorYaml::readCamera(path, "left");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("k3"), std::string::npos) << e.what();
+  }
+}
+
+TEST(SensorYaml, PinholeWithoutDistortionRoundTrips) {
+  const std::string path = test::freshDir("yaml_none") + "/sensor.yaml";
+  CameraCalibration cam;
+  cam.name = "cam0";
+  cam.model = CameraModel(320, 240, {300.1, 300.2, 160.3, 120.4}, DistortionModel::kNone);
+  cam.rate_hz = 1.0 / 3.0;
+  cam.T_BC.translation() = Eigen::Vector3d(0.1, 0.2, 0.3);
+  SensorYaml::writeCamera(path, cam);
+  const CameraCalibration back = SensorYaml::readCamera(path, "cam0");
+  EXPECT_EQ(back.model.distortionModel(), DistortionModel::kNone);
+  EXPECT_EQ(back.model.intrinsics(), cam.model.intrinsics());
+  EXPECT_EQ(back.rate_hz, cam.rate_hz);
+  EXPECT_EQ(back.T_BC.matrix(), cam.T_BC.matrix());
+}
+
+TEST(SensorYaml, RejectsNonIntegerResolution) {
+  const std::string path = test::freshDir("yaml_resolution") + "/sensor.yaml";
+  std::string text = kCameraYaml;
+  text.replace(text.find("[640, 480]"), 10, "[640.5, 480]");
+  test::writeText(path, text);
+  try {
+    SensorYaml::readCamera(path, "cam0");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ":11: key 'resolution'"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace mcvio::dataset
