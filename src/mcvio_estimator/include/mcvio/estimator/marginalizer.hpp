@@ -1,0 +1,64 @@
+#pragma once
+#include <map>
+#include <memory>
+#include <set>
+#include <vector>
+
+#include <Eigen/Core>
+#include <ceres/cost_function.h>
+#include <ceres/loss_function.h>
+
+#include "mcvio/estimator/marginalization_prior.hpp"
+
+namespace mcvio::estimator {
+
+/// Linearises a set of residual blocks at the current parameter values and reduces the normal
+/// equations by Schur complement. Used for marginalisation (removed states -> prior on the kept
+/// ones) and for the marginal covariance of one block. Scalar landmark blocks are eliminated
+/// first, one at a time, which is exact because no residual touches two landmarks.
+/// Robust losses are applied by scaling residual and Jacobian with sqrt(rho'), as in IRLS.
+class Marginalizer {
+ public:
+  /// Registers a parameter block (must be done for every block a residual uses).
+  void addParameterBlock(double* data, BlockKind kind, int size);
+  /// Adds a residual block. The cost function and loss must outlive the calls below; the
+  /// Marginalizer does not take ownership.
+  void addResidualBlock(const ceres::CostFunction* cost, const ceres::LossFunction* loss,
+                        std::vector<double*> parameters);
+
+  /// Schur-complements the `drop` blocks out of all added residuals. The prior covers every other
+  /// block touched by the residuals, linearised at its current value. Returns nullptr when nothing
+  /// is left to keep. Throws std::logic_error if a residual couldn't be evaluated.
+  std::shared_ptr<MarginalizationPrior> marginalize(const std::set<const double*>& drop) const;
+
+  /// Marginal covariance (tangent space) of `block` given all added residuals, with every other
+  /// block marginalised. False if the information matrix is not positive definite.
+  bool marginalCovariance(const double* block, Eigen::MatrixXd* covariance) const;
+
+  /// Information (Hessian) of all non-landmark blocks with the landmarks in `drop` eliminated, in
+  /// the given block order (tangent dims). Exposed for tests.
+  void reducedSystem(const std::vector<const double*>& order, const std::set<const double*>& drop,
+                     Eigen::MatrixXd* H, Eigen::VectorXd* g) const;
+
+  std::size_t residualCount() const { return residuals_.size(); }
+
+ private:
+  struct BlockInfo {
+    double* data;
+    BlockKind kind;
+    int size;
+    int tangent_size;
+  };
+  struct Residual {
+    const ceres::CostFunction* cost;
+    const ceres::LossFunction* loss;
+    std::vector<double*> parameters;
+  };
+  /// Residual and tangent-space Jacobians (loss applied).
+  bool linearize(const Residual& res, Eigen::VectorXd* r, std::vector<Eigen::MatrixXd>* J) const;
+
+  std::map<const double*, BlockInfo> blocks_;
+  std::vector<Residual> residuals_;
+};
+
+}  // namespace mcvio::estimator

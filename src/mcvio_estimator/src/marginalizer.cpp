@@ -1,0 +1,233 @@
+#include "mcvio/estimator/marginalizer.hpp"
+
+#include <stdexcept>
+#include <unordered_map>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+
+#include "mcvio/estimator/pose_manifold.hpp"
+
+namespace mcvio::estimator {
+
+namespace {
+
+int tangentSize(BlockKind kind, int size) { return kind == BlockKind::kPose ? 6 : size; }
+
+// Symmetric pseudo-inverse; directions with tiny information are treated as unconstrained.
+Eigen::MatrixXd pseudoInverse(const Eigen::MatrixXd& A) {
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (A + A.transpose()));
+  const double eps = 1e-10 * std::max(1.0, es.eigenvalues().cwiseAbs().maxCoeff());
+  const Eigen::VectorXd inv =
+      es.eigenvalues().unaryExpr([eps](double l) { return l > eps ? 1.0 / l : 0.0; });
+  return es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose();
+}
+
+}  // namespace
+
+void Marginalizer::addParameterBlock(double* data, BlockKind kind, int size) {
+  blocks_[data] = BlockInfo{data, kind, size, tangentSize(kind, size)};
+}
+
+void Marginalizer::addResidualBlock(const ceres::CostFunction* cost, const ceres::LossFunction* loss,
+                                    std::vector<double*> parameters) {
+  for (const double* p : parameters)
+    if (blocks_.count(p) == 0) throw std::logic_error("Marginalizer: residual uses an unregistered parameter block");
+  residuals_.push_back(Residual{cost, loss, std::move(parameters)});
+}
+
+bool Marginalizer::linearize(const Residual& res, Eigen::VectorXd* r, std::vector<Eigen::MatrixXd>* J) const {
+  const int m = res.cost->num_residuals();
+  const auto& sizes = res.cost->parameter_block_sizes();
+  r->resize(m);
+  std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Jg(sizes.size());
+  std::vector<double*> jac_ptrs(sizes.size());
+  for (std::size_t i = 0; i < sizes.size(); ++i) {
+    Jg[i].resize(m, sizes[i]);
+    jac_ptrs[i] = Jg[i].data();
+  }
+  if (!res.cost->Evaluate(res.parameters.data(), r->data(), jac_ptrs.data())) return false;
+  J->resize(sizes.size());
+  for (std::size_t i = 0; i < sizes.size(); ++i) {
+    const BlockInfo& b = blocks_.at(res.parameters[i]);
+    if (b.kind == BlockKind::kPose) {
+      Eigen::Matrix<double, 7, 6, Eigen::RowMajor> P;
+      PoseManifold().PlusJacobian(b.data, P.data());
+      (*J)[i] = Jg[i] * P;
+    } else {
+      (*J)[i] = Jg[i];
+    }
+  }
+  if (res.loss != nullptr) {
+    double rho[3];
+    res.loss->Evaluate(r->squaredNorm(), rho);
+    const double s = std::sqrt(std::max(rho[1], 0.0));
+    *r *= s;
+    for (auto& j : *J) j *= s;
+  }
+  return r->allFinite();
+}
+
+void Marginalizer::reducedSystem(const std::vector<const double*>& order, const std::set<const double*>& drop,
+                                 Eigen::MatrixXd* H, Eigen::VectorXd* g) const {
+  std::unordered_map<const double*, int> offset;
+  int dim = 0;
+  for (const double* p : order) {
+    offset[p] = dim;
+    dim += blocks_.at(p).tangent_size;
+  }
+  H->setZero(dim, dim);
+  g->setZero(dim);
+
+  struct LandmarkTerms {
+    double h = 0, g = 0;
+    std::map<int, Eigen::RowVectorXd> coupling;  // dense offset -> h_l,block
+  };
+  std::unordered_map<const double*, LandmarkTerms> landmarks;
+
+  Eigen::VectorXd r;
+  std::vector<Eigen::MatrixXd> J;
+  for (const auto& res : residuals_) {
+    if (!linearize(res, &r, &J)) throw std::logic_error("Marginalizer: a residual block could not be evaluated");
+    const double* lm = nullptr;
+    for (const double* p : res.parameters) {
+      const BlockInfo& b = blocks_.at(p);
+      if (b.kind == BlockKind::kLandmark && drop.count(p) != 0) {
+        if (lm != nullptr) throw std::logic_error("Marginalizer: a residual touches two eliminated landmarks");
+        lm = p;
+      }
+    }
+    for (std::size_t a = 0; a < res.parameters.size(); ++a) {
+      const double* pa = res.parameters[a];
+      if (pa == lm) continue;
+      const int oa = offset.at(pa);
+      g->segment(oa, J[a].cols()) += J[a].transpose() * r;
+      for (std::size_t b = 0; b < res.parameters.size(); ++b) {
+        const double* pb = res.parameters[b];
+        if (pb == lm) continue;
+        H->block(oa, offset.at(pb), J[a].cols(), J[b].cols()) += J[a].transpose() * J[b];
+      }
+    }
+    if (lm != nullptr) {
+      std::size_t li = 0;
+      while (res.parameters[li] != lm) ++li;
+      LandmarkTerms& t = landmarks[lm];
+      t.h += J[li].squaredNorm();
+      t.g += (J[li].transpose() * r)(0);
+      for (std::size_t a = 0; a < res.parameters.size(); ++a) {
+        if (a == li) continue;
+        const int oa = offset.at(res.parameters[a]);
+        Eigen::RowVectorXd c = J[li].transpose() * J[a];
+        auto it = t.coupling.find(oa);
+        if (it == t.coupling.end())
+          t.coupling.emplace(oa, c);
+        else
+          it->second += c;
+      }
+    }
+  }
+  // Exact Schur complement of each scalar landmark (they are mutually independent).
+  for (const auto& [ptr, t] : landmarks) {
+    if (t.h < 1e-12) continue;
+    const double inv = 1.0 / t.h;
+    for (const auto& [oa, ca] : t.coupling) {
+      g->segment(oa, ca.size()) -= ca.transpose() * (t.g * inv);
+      for (const auto& [ob, cb] : t.coupling) H->block(oa, ob, ca.size(), cb.size()) -= ca.transpose() * cb * inv;
+    }
+  }
+}
+
+std::shared_ptr<MarginalizationPrior> Marginalizer::marginalize(const std::set<const double*>& drop) const {
+  // Dense order: dropped non-landmark blocks first, then the kept ones (in first-use order).
+  std::vector<const double*> dropped, kept;
+  std::set<const double*> seen;
+  for (const auto& res : residuals_) {
+    for (const double* p : res.parameters) {
+      if (!seen.insert(p).second) continue;
+      const BlockInfo& b = blocks_.at(p);
+      if (drop.count(p) != 0) {
+        if (b.kind != BlockKind::kLandmark) dropped.push_back(p);
+      } else {
+        kept.push_back(p);
+      }
+    }
+  }
+  if (kept.empty()) return nullptr;
+  std::vector<const double*> order = dropped;
+  order.insert(order.end(), kept.begin(), kept.end());
+  Eigen::MatrixXd H;
+  Eigen::VectorXd g;
+  reducedSystem(order, drop, &H, &g);
+  int m = 0;
+  for (const double* p : dropped) m += blocks_.at(p).tangent_size;
+  const int n = static_cast<int>(H.rows()) - m;
+
+  Eigen::MatrixXd Hs = H.bottomRightCorner(n, n);
+  Eigen::VectorXd gs = g.tail(n);
+  if (m > 0) {
+    const Eigen::MatrixXd Hmm_inv = pseudoInverse(H.topLeftCorner(m, m));
+    const Eigen::MatrixXd Hnm = H.bottomLeftCorner(n, m);
+    Hs -= Hnm * Hmm_inv * Hnm.transpose();
+    gs -= Hnm * Hmm_inv * g.head(m);
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (Hs + Hs.transpose()));
+  const double eps = 1e-8 * std::max(1.0, es.eigenvalues().maxCoeff());
+  std::vector<int> rows;
+  for (int i = 0; i < n; ++i)
+    if (es.eigenvalues()[i] > eps) rows.push_back(i);
+
+  auto prior = std::make_shared<MarginalizationPrior>();
+  prior->J.resize(static_cast<int>(rows.size()), n);
+  prior->r.resize(static_cast<int>(rows.size()));
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const int i = rows[k];
+    const double s = std::sqrt(es.eigenvalues()[i]);
+    prior->J.row(static_cast<int>(k)) = s * es.eigenvectors().col(i).transpose();
+    prior->r[static_cast<int>(k)] = es.eigenvectors().col(i).dot(gs) / s;
+  }
+  for (const double* p : kept) {
+    const BlockInfo& b = blocks_.at(p);
+    MarginalizationPrior::Block blk;
+    blk.data = b.data;
+    blk.kind = b.kind == BlockKind::kLandmark ? BlockKind::kEuclidean : b.kind;
+    blk.size = b.size;
+    blk.tangent_size = b.tangent_size;
+    blk.x_lin.assign(b.data, b.data + b.size);
+    prior->blocks.push_back(std::move(blk));
+  }
+  return prior;
+}
+
+bool Marginalizer::marginalCovariance(const double* block, Eigen::MatrixXd* covariance) const {
+  std::vector<const double*> order;
+  std::set<const double*> drop, seen;
+  int target = -1, dim = 0;
+  for (const auto& res : residuals_) {
+    for (const double* p : res.parameters) {
+      if (!seen.insert(p).second) continue;
+      const BlockInfo& b = blocks_.at(p);
+      if (b.kind == BlockKind::kLandmark) {
+        drop.insert(p);
+        continue;
+      }
+      if (p == block) target = dim;
+      order.push_back(p);
+      dim += b.tangent_size;
+    }
+  }
+  if (target < 0) return false;
+  Eigen::MatrixXd H;
+  Eigen::VectorXd g;
+  reducedSystem(order, drop, &H, &g);
+  const int k = blocks_.at(block).tangent_size;
+  Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (H + H.transpose()));
+  if (llt.info() != Eigen::Success) return false;
+  Eigen::MatrixXd E = Eigen::MatrixXd::Zero(H.rows(), k);
+  E.block(target, 0, k, k).setIdentity();
+  const Eigen::MatrixXd X = llt.solve(E);
+  *covariance = X.block(target, 0, k, k);
+  *covariance = 0.5 * (*covariance + covariance->transpose());
+  return covariance->allFinite();
+}
+
+}  // namespace mcvio::estimator

@@ -1,0 +1,217 @@
+#include <memory>
+#include <random>
+#include <set>
+
+#include <ceres/ceres.h>
+#include <gtest/gtest.h>
+
+#include "mcvio/estimator/anchor_stereo_factor.hpp"
+#include "mcvio/estimator/imu_factor.hpp"
+#include "mcvio/estimator/marginalizer.hpp"
+#include "mcvio/estimator/pose_manifold.hpp"
+#include "mcvio/estimator/reprojection_factor.hpp"
+#include "mcvio/estimator/so3.hpp"
+
+namespace mcvio::estimator {
+namespace {
+
+// A small visual-inertial window: 3 frames (pose + speed-bias), IMU factors 0-1 and 1-2, stereo
+// landmarks anchored in frames 0 and 1, and a gauge prior on frame 0. All residuals are evaluated
+// away from their minimum so gradients are non-zero.
+struct SmallProblem {
+  std::vector<std::array<double, 7>> poses;
+  std::vector<std::array<double, 9>> sbs;
+  std::vector<double> rho;
+  std::vector<int> anchor;
+  std::vector<std::unique_ptr<ceres::CostFunction>> costs;
+  std::vector<std::vector<double*>> params;
+  std::vector<ImuPreintegrator> pre;
+  std::unique_ptr<ceres::LossFunction> loss;
+  std::shared_ptr<MarginalizationPrior> gauge;
+  Eigen::Isometry3d T_BC0, T_BC1;
+
+  SmallProblem() {
+    std::mt19937 rng(7);
+    std::normal_distribution<double> nd;
+    T_BC0 = Eigen::Isometry3d::Identity();
+    T_BC0.linear() = so3::exp(Eigen::Vector3d(-M_PI / 2, 0, 0)) * so3::exp(Eigen::Vector3d(0, M_PI / 2, 0));
+    T_BC1 = T_BC0;
+    T_BC1.translation() = T_BC0.linear() * Eigen::Vector3d(0.11, 0, 0);
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::Quaterniond q = so3::expQuat(Eigen::Vector3d(0.02 * i, -0.01 * i, 0.05 * i + 0.01 * nd(rng)));
+      poses.push_back({0.1 * i + 0.01 * nd(rng), 0.02 * nd(rng), 0.01 * nd(rng), q.x(), q.y(), q.z(), q.w()});
+      sbs.push_back({1.0 + 0.05 * nd(rng), 0.05 * nd(rng), 0.0, 0.001 * nd(rng), 0.001 * nd(rng), 0.001 * nd(rng),
+                     0.01 * nd(rng), 0.01 * nd(rng), 0.01 * nd(rng)});
+    }
+    for (int i = 0; i < 2; ++i) {
+      pre.emplace_back(ImuBias{}, ImuNoiseParams{});
+      for (int k = 0; k <= 20; ++k) {
+        ImuSample s;
+        s.t = k * 5'000'000;
+        s.gyro = Eigen::Vector3d(0.2, -0.1, 0.5) + 0.01 * Eigen::Vector3d(nd(rng), nd(rng), nd(rng));
+        s.accel = Eigen::Vector3d(0.3, 0.1, 9.81) + 0.1 * Eigen::Vector3d(nd(rng), nd(rng), nd(rng));
+        pre.back().integrate(s);
+      }
+    }
+    const Eigen::Vector3d g(0, 0, -9.81);
+    for (int i = 0; i < 2; ++i) {
+      costs.emplace_back(ImuFactor::create(pre[static_cast<std::size_t>(i)], g));
+      params.push_back({poses[i].data(), sbs[i].data(), poses[i + 1].data(), sbs[i + 1].data()});
+    }
+    const int n_landmarks = 12;
+    rho.resize(n_landmarks);
+    anchor.resize(n_landmarks);
+    const Eigen::Isometry3d T_C1C0 = T_BC1.inverse() * T_BC0;
+    for (int l = 0; l < n_landmarks; ++l) {
+      anchor[l] = l % 2;
+      const Eigen::Vector2d bearing(0.3 * nd(rng), 0.2 * nd(rng));
+      rho[l] = 1.0 / (4.0 + nd(rng));
+      costs.emplace_back(new AnchorStereoFactor(bearing, bearing + Eigen::Vector2d(-0.02, 0.001 * nd(rng)), T_C1C0, 458.0));
+      params.push_back({&rho[l]});
+      for (int f = anchor[l] + 1; f < 3; ++f) {
+        for (const auto* T : {&T_BC0, &T_BC1}) {
+          costs.emplace_back(new ReprojectionFactor(bearing, bearing + 0.01 * Eigen::Vector2d(nd(rng), nd(rng)), T_BC0, *T, 458.0));
+          params.push_back({poses[anchor[l]].data(), poses[f].data(), &rho[l]});
+        }
+      }
+    }
+    gauge = std::make_shared<MarginalizationPrior>();
+    gauge->blocks.push_back({poses[0].data(), BlockKind::kPose, 7, 6, {}});
+    gauge->blocks.push_back({sbs[0].data(), BlockKind::kEuclidean, 9, 9, {}});
+    for (auto& b : gauge->blocks) b.x_lin.assign(b.data, b.data + b.size);
+    gauge->J = 100.0 * Eigen::MatrixXd::Identity(15, 15);
+    gauge->r = Eigen::VectorXd::Constant(15, 0.1);
+    costs.emplace_back(new MarginalizationFactor(gauge));
+    params.push_back({poses[0].data(), sbs[0].data()});
+  }
+
+  void addBlocks(ceres::Problem* problem, ceres::Manifold* manifold) {
+    for (auto& p : poses) problem->AddParameterBlock(p.data(), 7, manifold);
+    for (auto& s : sbs) problem->AddParameterBlock(s.data(), 9);
+    for (auto& r : rho) problem->AddParameterBlock(&r, 1);
+  }
+};
+
+void hessian(ceres::Problem* problem, const std::vector<double*>& order, Eigen::MatrixXd* H, Eigen::VectorXd* g) {
+  ceres::Problem::EvaluateOptions opts;
+  opts.parameter_blocks = order;
+  ceres::CRSMatrix crs;
+  std::vector<double> residuals, gradient;
+  double cost = 0;
+  ASSERT_TRUE(problem->Evaluate(opts, &cost, &residuals, &gradient, &crs));
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
+  for (int r = 0; r < crs.num_rows; ++r)
+    for (int k = crs.rows[r]; k < crs.rows[r + 1]; ++k) J(r, crs.cols[k]) = crs.values[k];
+  *H = J.transpose() * J;
+  *g = Eigen::Map<Eigen::VectorXd>(gradient.data(), static_cast<int>(gradient.size()));
+}
+
+// The prior left by marginalising frame 0 (pose, speed-bias) and the landmarks anchored in it,
+// plus the residuals that remain, has exactly the information and gradient of the full problem
+// marginalised onto the kept states (Schur complement of the full Hessian).
+TEST(Marginalizer, PriorEqualsMarginalInformationOfFullProblem) {
+  SmallProblem sp;
+  PoseManifold manifold;
+  std::set<const double*> drop{sp.poses[0].data(), sp.sbs[0].data()};
+  for (std::size_t l = 0; l < sp.rho.size(); ++l)
+    if (sp.anchor[l] == 0) drop.insert(&sp.rho[l]);
+
+  Marginalizer marg;
+  for (auto& p : sp.poses) marg.addParameterBlock(p.data(), BlockKind::kPose, 7);
+  for (auto& s : sp.sbs) marg.addParameterBlock(s.data(), BlockKind::kEuclidean, 9);
+  for (auto& r : sp.rho) marg.addParameterBlock(&r, BlockKind::kLandmark, 1);
+  std::vector<std::size_t> remaining;
+  for (std::size_t i = 0; i < sp.costs.size(); ++i) {
+    bool touches = false;
+    for (double* p : sp.params[i]) touches |= drop.count(p) != 0;
+    if (touches)
+      marg.addResidualBlock(sp.costs[i].get(), nullptr, sp.params[i]);
+    else
+      remaining.push_back(i);
+  }
+  const auto prior = marg.marginalize(drop);
+  ASSERT_TRUE(prior);
+  EXPECT_FALSE(prior->involves(sp.poses[0].data()));
+
+  ceres::Problem::Options popts;
+  popts.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  popts.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem full(popts);
+  sp.addBlocks(&full, &manifold);
+  for (std::size_t i = 0; i < sp.costs.size(); ++i) full.AddResidualBlock(sp.costs[i].get(), nullptr, sp.params[i]);
+
+  std::vector<double*> kept, dropped;
+  for (std::size_t i = 1; i < 3; ++i) {
+    kept.push_back(sp.poses[i].data());
+    kept.push_back(sp.sbs[i].data());
+  }
+  for (std::size_t l = 0; l < sp.rho.size(); ++l) (sp.anchor[l] == 0 ? dropped : kept).push_back(&sp.rho[l]);
+  dropped.push_back(sp.poses[0].data());
+  dropped.push_back(sp.sbs[0].data());
+  std::vector<double*> order = kept;
+  order.insert(order.end(), dropped.begin(), dropped.end());
+  Eigen::MatrixXd H;
+  Eigen::VectorXd g;
+  hessian(&full, order, &H, &g);
+  const int n = 2 * 6 + 2 * 9 + static_cast<int>(sp.rho.size()) / 2;
+  const int m = static_cast<int>(H.rows()) - n;
+  const Eigen::MatrixXd Hmm_inv = H.bottomRightCorner(m, m).inverse();
+  const Eigen::MatrixXd H_marg = H.topLeftCorner(n, n) - H.topRightCorner(n, m) * Hmm_inv * H.bottomLeftCorner(m, n);
+  const Eigen::VectorXd g_marg = g.head(n) - H.topRightCorner(n, m) * Hmm_inv * g.tail(m);
+  // Equivalently the inverse of the kept block of the full covariance.
+  const Eigen::MatrixXd H_cov = H.inverse().topLeftCorner(n, n).inverse();
+  EXPECT_LT((H_marg - H_cov).norm(), 1e-6 * H_marg.norm());
+
+  auto* prior_factor = new MarginalizationFactor(prior);
+  ceres::Problem reduced(popts);
+  for (double* p : kept) {
+    if (p == sp.poses[1].data() || p == sp.poses[2].data())
+      reduced.AddParameterBlock(p, 7, &manifold);
+    else if (p == sp.sbs[1].data() || p == sp.sbs[2].data())
+      reduced.AddParameterBlock(p, 9);
+    else
+      reduced.AddParameterBlock(p, 1);
+  }
+  reduced.AddResidualBlock(prior_factor, nullptr, prior_factor->parameterBlocks());
+  for (std::size_t i : remaining) reduced.AddResidualBlock(sp.costs[i].get(), nullptr, sp.params[i]);
+  Eigen::MatrixXd H_red;
+  Eigen::VectorXd g_red;
+  hessian(&reduced, kept, &H_red, &g_red);
+  EXPECT_LT((H_red - H_marg).norm(), 1e-6 * H_marg.norm()) << "information differs";
+  EXPECT_LT((g_red - g_marg).norm(), 1e-6 * std::max(1.0, g_marg.norm())) << "gradient differs";
+  // The prior must carry real information (the test can fail).
+  EXPECT_GT(prior->information().norm(), 1.0);
+  delete prior_factor;
+}
+
+// The marginal covariance from the Marginalizer (landmarks eliminated first) equals the block of
+// the inverse of the full Hessian.
+TEST(Marginalizer, MarginalCovarianceMatchesFullInverse) {
+  SmallProblem sp;
+  PoseManifold manifold;
+  Marginalizer marg;
+  for (auto& p : sp.poses) marg.addParameterBlock(p.data(), BlockKind::kPose, 7);
+  for (auto& s : sp.sbs) marg.addParameterBlock(s.data(), BlockKind::kEuclidean, 9);
+  for (auto& r : sp.rho) marg.addParameterBlock(&r, BlockKind::kLandmark, 1);
+  for (std::size_t i = 0; i < sp.costs.size(); ++i) marg.addResidualBlock(sp.costs[i].get(), nullptr, sp.params[i]);
+  Eigen::MatrixXd cov;
+  ASSERT_TRUE(marg.marginalCovariance(sp.poses[2].data(), &cov));
+
+  ceres::Problem::Options popts;
+  popts.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  popts.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem full(popts);
+  sp.addBlocks(&full, &manifold);
+  for (std::size_t i = 0; i < sp.costs.size(); ++i) full.AddResidualBlock(sp.costs[i].get(), nullptr, sp.params[i]);
+  std::vector<double*> order{sp.poses[2].data(), sp.poses[0].data(), sp.poses[1].data()};
+  for (auto& s : sp.sbs) order.push_back(s.data());
+  for (auto& r : sp.rho) order.push_back(&r);
+  Eigen::MatrixXd H;
+  Eigen::VectorXd g;
+  hessian(&full, order, &H, &g);
+  const Eigen::MatrixXd ref = H.inverse().topLeftCorner(6, 6);
+  EXPECT_LT((cov - ref).norm(), 1e-6 * ref.norm());
+}
+
+}  // namespace
+}  // namespace mcvio::estimator
