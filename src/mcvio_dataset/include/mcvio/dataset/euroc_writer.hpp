@@ -6,6 +6,7 @@
 #include <opencv2/core/mat.hpp>
 
 #include "mcvio/core/imu_sample.hpp"
+#include "mcvio/core/input_error.hpp"
 #include "mcvio/core/stereo_rig_calibration.hpp"
 #include "mcvio/dataset/conflict_label.hpp"
 #include "mcvio/dataset/ground_truth_state.hpp"
