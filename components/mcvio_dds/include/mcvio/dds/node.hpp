@@ -1,0 +1,64 @@
+#pragma once
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "mcvio/dds/participant.hpp"
+#include "mcvio/dds/qos_profile.hpp"
+
+namespace mcvio::dds {
+
+template <class T> class Publisher;
+template <class T> class Subscription;
+class GenericPublisher;
+class GenericSubscription;
+struct ReceivedPayload;
+
+/// A ROS 2 node: a name under which publishers and subscriptions appear in the ROS graph.
+/// Components (frontend, backend, ...) each own one; several may share a Participant.
+class Node {
+ public:
+  Node(std::shared_ptr<Participant> participant, std::string name, std::string ns);
+  ~Node();
+  Node(const Node&) = delete;
+  Node& operator=(const Node&) = delete;
+
+  const std::string& name() const { return name_; }
+  const std::string& ns() const { return ns_; }
+  /// "/ns/name", as `ros2 node list` prints it.
+  std::string fullName() const;
+  const std::shared_ptr<Participant>& participant() const { return participant_; }
+  const std::string& key() const { return key_; }
+
+  /// Typed publisher of a generated ROS 2 type (see mcvio/interfaces/ros_type_traits.hpp).
+  template <class T>
+  std::unique_ptr<Publisher<T>> createPublisher(const std::string& topic, const QosProfile& qos);
+  /// Typed subscription; `callback` runs on a Fast DDS thread for every sample.
+  template <class T>
+  std::unique_ptr<Subscription<T>> createSubscription(const std::string& topic, const QosProfile& qos,
+                                                      std::function<void(const T&)> callback);
+
+ private:
+  std::shared_ptr<Participant> participant_;
+  std::string name_, ns_, key_;
+};
+
+}  // namespace mcvio::dds
+
+#include "mcvio/dds/publisher.hpp"
+#include "mcvio/dds/subscription.hpp"
+
+namespace mcvio::dds {
+
+template <class T>
+std::unique_ptr<Publisher<T>> Node::createPublisher(const std::string& topic, const QosProfile& qos) {
+  return std::make_unique<Publisher<T>>(*this, topic, qos);
+}
+
+template <class T>
+std::unique_ptr<Subscription<T>> Node::createSubscription(const std::string& topic, const QosProfile& qos,
+                                                          std::function<void(const T&)> callback) {
+  return std::make_unique<Subscription<T>>(*this, topic, qos, std::move(callback));
+}
+
+}  // namespace mcvio::dds
