@@ -1,9 +1,8 @@
 #include "mcvio/core/camera_model.hpp"
 
+#include <Eigen/LU>
 #include <cmath>
 #include <sstream>
-
-#include <Eigen/LU>
 
 #include "mcvio/core/input_error.hpp"
 

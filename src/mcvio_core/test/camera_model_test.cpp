@@ -1,8 +1,8 @@
 #include "mcvio/core/camera_model.hpp"
 
-#include <random>
-
 #include <gtest/gtest.h>
+
+#include <random>
 
 #include "mcvio/core/input_error.hpp"
 
@@ -48,8 +48,9 @@ TEST(CameraModel, RejectsBadParameters) {
   EXPECT_THROW(CameraModel(0, 480, {1, 1, 0, 0}, DistortionModel::kNone), InputError);
   EXPECT_THROW(CameraModel(752, 480, {-1, 1, 0, 0}, DistortionModel::kNone), InputError);
   EXPECT_THROW(CameraModel(752, 480, {1, 1, NAN, 0}, DistortionModel::kNone), InputError);
-  EXPECT_THROW(CameraModel(752, 480, {1, 1, 0, 0}, DistortionModel::kEquidistant, {0, INFINITY, 0, 0}),
-               InputError);
+  EXPECT_THROW(
+      CameraModel(752, 480, {1, 1, 0, 0}, DistortionModel::kEquidistant, {0, INFINITY, 0, 0}),
+      InputError);
 }
 
 TEST(CameraModel, PinholeProjectsExactly) {
@@ -97,7 +98,8 @@ TEST(CameraModel, ProjectUnprojectRoundTrip) {
         }
         if (theta_d > 1.4) continue;
       }
-      ASSERT_TRUE(cam.unprojectBearing(px, &bearing)) << toString(cam.distortionModel()) << " " << px.transpose();
+      ASSERT_TRUE(cam.unprojectBearing(px, &bearing))
+          << toString(cam.distortionModel()) << " " << px.transpose();
       EXPECT_NEAR(bearing.norm(), 1.0, 1e-12);
       const Eigen::Vector3d p = bearing * depth(rng);
       Eigen::Vector2d back;
@@ -126,9 +128,10 @@ TEST(CameraModel, ProjectionJacobianMatchesNumerical) {
         ASSERT_TRUE(cam.projectAnywhere(p - dp, &b));
         Jn.col(k) = (a - b) / (2 * h);
       }
-      EXPECT_LT((J - Jn).norm(), 1e-5 * (1.0 + Jn.norm())) << toString(cam.distortionModel()) << "\n"
-                                                           << J << "\n"
-                                                           << Jn;
+      EXPECT_LT((J - Jn).norm(), 1e-5 * (1.0 + Jn.norm()))
+          << toString(cam.distortionModel()) << "\n"
+          << J << "\n"
+          << Jn;
     }
   }
 }
@@ -174,8 +177,9 @@ TEST(CameraModel, UndistortConvergesOnEurocCam0OverWholeImage) {
       ++count;
     }
   }
-  for (const Eigen::Vector2d& corner : {Eigen::Vector2d(-0.5, -0.5), Eigen::Vector2d(751.5, -0.5),
-                                       Eigen::Vector2d(-0.5, 479.5), Eigen::Vector2d(751.5, 479.5)}) {
+  for (const Eigen::Vector2d& corner :
+       {Eigen::Vector2d(-0.5, -0.5), Eigen::Vector2d(751.5, -0.5), Eigen::Vector2d(-0.5, 479.5),
+        Eigen::Vector2d(751.5, 479.5)}) {
     Eigen::Vector2d n;
     const Eigen::Vector2d d = cam.pixelToDistorted(corner);
     ASSERT_TRUE(cam.undistort(d, &n));

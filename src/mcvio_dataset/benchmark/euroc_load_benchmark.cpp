@@ -1,9 +1,9 @@
 // Loading the real EuRoC V1_01 excerpt: calibration, frame list, 29k IMU rows, ground truth.
 // Run: mcvio_dataset_benchmark (reads MCVIO_SHARED_DIR, default /work/shared).
+#include <benchmark/benchmark.h>
+
 #include <cstdlib>
 #include <string>
-
-#include <benchmark/benchmark.h>
 
 #include "mcvio/dataset/csv_reader.hpp"
 #include "mcvio/dataset/euroc_dataset.hpp"

@@ -6,9 +6,8 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
-#include <unordered_set>
-
 #include <opencv2/imgcodecs.hpp>
+#include <unordered_set>
 
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/dataset/csv_reader.hpp"
@@ -38,8 +37,8 @@ void forEachRow(CsvReader& csv, const EurocDatasetOptions& options,
 void checkIncreasing(const CsvReader& csv, Timestamp t, Timestamp* last, bool* have_last) {
   if (*have_last && t <= *last) {
     csv.fail(t == *last ? "duplicate timestamp " + std::to_string(t)
-                        : "timestamp " + std::to_string(t) + " is earlier than the previous row's " +
-                              std::to_string(*last));
+                        : "timestamp " + std::to_string(t) +
+                              " is earlier than the previous row's " + std::to_string(*last));
   }
   *last = t;
   *have_last = true;
@@ -59,12 +58,14 @@ std::string requireFile(const fs::path& path) {
 
 // Reads width and height from a PNG's IHDR chunk; false if the file is not a readable PNG.
 bool readPngSize(const std::string& path, int* width, int* height) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
+                                                       &std::fclose);
   if (!file) return false;
   unsigned char header[24];
   if (std::fread(header, 1, sizeof(header), file.get()) != sizeof(header)) return false;
   static const unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (std::memcmp(header, kSignature, 8) != 0 || std::memcmp(header + 12, "IHDR", 4) != 0) return false;
+  if (std::memcmp(header, kSignature, 8) != 0 || std::memcmp(header + 12, "IHDR", 4) != 0)
+    return false;
   auto be32 = [](const unsigned char* p) {
     return static_cast<int>((std::uint32_t(p[0]) << 24) | (std::uint32_t(p[1]) << 16) |
                             (std::uint32_t(p[2]) << 8) | std::uint32_t(p[3]));
@@ -74,10 +75,10 @@ bool readPngSize(const std::string& path, int* width, int* height) {
   return true;
 }
 
-std::string sizeMismatch(const std::string& path, int width, int height, const CameraCalibration& cam,
-                         const std::string& yaml) {
-  return path + ": image is " + std::to_string(width) + "x" + std::to_string(height) + " but " + yaml +
-         " gives resolution [" + std::to_string(cam.model.width()) + ", " +
+std::string sizeMismatch(const std::string& path, int width, int height,
+                         const CameraCalibration& cam, const std::string& yaml) {
+  return path + ": image is " + std::to_string(width) + "x" + std::to_string(height) + " but " +
+         yaml + " gives resolution [" + std::to_string(cam.model.width()) + ", " +
          std::to_string(cam.model.height()) + "]";
 }
 
@@ -107,8 +108,9 @@ std::vector<CameraRow> readCameraRows(const fs::path& cam_dir, const EurocDatase
     const std::string name(row.field(1));
     if (name.empty()) row.fail("column 'filename' is empty");
     checkIncreasing(row, t, &last, &have_last);
-    const bool exists = name.find('/') == std::string::npos ? files.count(name) > 0
-                                                            : fs::is_regular_file(data_dir / name, ec);
+    const bool exists = name.find('/') == std::string::npos
+                            ? files.count(name) > 0
+                            : fs::is_regular_file(data_dir / name, ec);
     if (!exists) {
       warnings->push_back(row.location() + ": image data/" + name + " does not exist; frame " +
                           std::to_string(t) + " skipped");
@@ -156,8 +158,9 @@ EurocDataset EurocDataset::open(const std::string& dir, const EurocDatasetOption
   const std::vector<CameraRow> cam1 = readCameraRows(mav0 / "cam1", options, &data.warnings_);
   std::size_t i = 0, j = 0;
   auto unpaired = [&](const char* camera, const char* other, Timestamp t) {
-    data.warnings_.push_back((mav0 / camera / "data.csv").string() + ": frame " + std::to_string(t) +
-                             " has no " + other + " image at the same time; skipped");
+    data.warnings_.push_back((mav0 / camera / "data.csv").string() + ": frame " +
+                             std::to_string(t) + " has no " + other +
+                             " image at the same time; skipped");
   };
   while (i < cam0.size() || j < cam1.size()) {
     if (j == cam1.size()) {
@@ -175,7 +178,8 @@ EurocDataset EurocDataset::open(const std::string& dir, const EurocDatasetOption
     }
   }
   if (data.frames_.empty()) {
-    throw InputError(data.root_ + ": no stereo pairs (cam0 and cam1 share no timestamp with images)");
+    throw InputError(data.root_ +
+                     ": no stereo pairs (cam0 and cam1 share no timestamp with images)");
   }
   if (options.check_image_size) {
     for (int cam = 0; cam < 2; ++cam) {
@@ -192,14 +196,16 @@ EurocDataset EurocDataset::open(const std::string& dir, const EurocDatasetOption
   {
     CsvReader csv(requireFile(mav0 / "imu0" / "data.csv"));
     Timestamp last = 0;
-  bool have_last = false;
+    bool have_last = false;
     data.imu_.reserve(32768);
     forEachRow(csv, options, &data.warnings_, [&](CsvReader& row) {
       row.expectFieldCount(7, "IMU");
       ImuSample s;
       s.t = row.int64At(0, "timestamp");
-      s.gyro = {row.doubleAt(1, "w_RS_S_x"), row.doubleAt(2, "w_RS_S_y"), row.doubleAt(3, "w_RS_S_z")};
-      s.accel = {row.doubleAt(4, "a_RS_S_x"), row.doubleAt(5, "a_RS_S_y"), row.doubleAt(6, "a_RS_S_z")};
+      s.gyro = {row.doubleAt(1, "w_RS_S_x"), row.doubleAt(2, "w_RS_S_y"),
+                row.doubleAt(3, "w_RS_S_z")};
+      s.accel = {row.doubleAt(4, "a_RS_S_x"), row.doubleAt(5, "a_RS_S_y"),
+                 row.doubleAt(6, "a_RS_S_z")};
       checkIncreasing(row, s.t, &last, &have_last);
       data.imu_.push_back(s);
     });
@@ -214,7 +220,7 @@ EurocDataset EurocDataset::open(const std::string& dir, const EurocDatasetOption
     } else {
       CsvReader csv((gt_dir / "data.csv").string());
       Timestamp last = 0;
-  bool have_last = false;
+      bool have_last = false;
       forEachRow(csv, options, &data.warnings_, [&](CsvReader& row) {
         row.expectFieldCount(17, "ground-truth");
         GroundTruthState s;
@@ -224,13 +230,16 @@ EurocDataset EurocDataset::open(const std::string& dir, const EurocDatasetOption
                                     row.doubleAt(6, "q_y"), row.doubleAt(7, "q_z"));
         const double norm = s.q_WB.norm();
         if (std::abs(norm - 1.0) > 1e-3) {
-          row.fail("quaternion (q_w, q_x, q_y, q_z) has norm " + std::to_string(norm) + ", expected 1");
+          row.fail("quaternion (q_w, q_x, q_y, q_z) has norm " + std::to_string(norm) +
+                   ", expected 1");
         }
         // Leave unit quaternions bit-exact so write-then-read is lossless.
         if (std::abs(norm - 1.0) > 1e-12) s.q_WB.normalize();
         s.v_WB = {row.doubleAt(8, "v_x"), row.doubleAt(9, "v_y"), row.doubleAt(10, "v_z")};
-        s.bias_gyro = {row.doubleAt(11, "bw_x"), row.doubleAt(12, "bw_y"), row.doubleAt(13, "bw_z")};
-        s.bias_accel = {row.doubleAt(14, "ba_x"), row.doubleAt(15, "ba_y"), row.doubleAt(16, "ba_z")};
+        s.bias_gyro = {row.doubleAt(11, "bw_x"), row.doubleAt(12, "bw_y"),
+                       row.doubleAt(13, "bw_z")};
+        s.bias_accel = {row.doubleAt(14, "ba_x"), row.doubleAt(15, "ba_y"),
+                        row.doubleAt(16, "ba_z")};
         checkIncreasing(row, s.t, &last, &have_last);
         data.ground_truth_.push_back(s);
       });
@@ -242,13 +251,14 @@ EurocDataset EurocDataset::open(const std::string& dir, const EurocDatasetOption
   if (fs::exists(labels_path, ec)) {
     CsvReader csv(labels_path.string());
     Timestamp last = 0;
-  bool have_last = false;
+    bool have_last = false;
     forEachRow(csv, options, &data.warnings_, [&](CsvReader& row) {
       row.expectFieldCount(4, "conflict label");
       ConflictLabel label;
       label.t = row.int64At(0, "timestamp");
       const std::int64_t flag = row.int64At(1, "in_conflict");
-      if (flag != 0 && flag != 1) row.fail("column 'in_conflict' must be 0 or 1, got " + std::to_string(flag));
+      if (flag != 0 && flag != 1)
+        row.fail("column 'in_conflict' must be 0 or 1, got " + std::to_string(flag));
       label.in_conflict = flag == 1;
       label.motion = std::string(row.field(2));
       if (label.motion.empty()) row.fail("column 'motion' is empty");

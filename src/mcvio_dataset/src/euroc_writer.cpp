@@ -1,9 +1,8 @@
 #include "mcvio/dataset/euroc_writer.hpp"
 
 #include <filesystem>
-#include <stdexcept>
-
 #include <opencv2/imgcodecs.hpp>
+#include <stdexcept>
 
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/dataset/sensor_yaml.hpp"
@@ -87,8 +86,9 @@ void EurocWriter::checkOpen() const {
 
 void EurocWriter::checkTime(Stream* stream, Timestamp t, const char* what) const {
   if (stream->has_rows && t <= stream->last_t) {
-    throw std::invalid_argument(std::string("EurocWriter: ") + what + " timestamp " + std::to_string(t) +
-                                " does not increase (previous " + std::to_string(stream->last_t) + ")");
+    throw std::invalid_argument(std::string("EurocWriter: ") + what + " timestamp " +
+                                std::to_string(t) + " does not increase (previous " +
+                                std::to_string(stream->last_t) + ")");
   }
 }
 
@@ -107,8 +107,9 @@ void EurocWriter::addStereoFrame(Timestamp t, const cv::Mat& cam0, const cv::Mat
     const cv::Mat& image = i == 0 ? cam0 : cam1;
     const CameraModel& model = calibration_.camera(i).model;
     if (image.type() != CV_8UC1 || image.cols != model.width() || image.rows != model.height()) {
-      throw std::invalid_argument("EurocWriter: cam" + std::to_string(i) + " image must be CV_8UC1 " +
-                                  std::to_string(model.width()) + "x" + std::to_string(model.height()));
+      throw std::invalid_argument("EurocWriter: cam" + std::to_string(i) +
+                                  " image must be CV_8UC1 " + std::to_string(model.width()) + "x" +
+                                  std::to_string(model.height()));
     }
   }
   addImage(0, t, cam0);
@@ -124,7 +125,8 @@ void EurocWriter::addImage(int camera, Timestamp t, const cv::Mat& image) {
   const CameraModel& model = calibration_.camera(camera).model;
   if (image.type() != CV_8UC1 || image.cols != model.width() || image.rows != model.height()) {
     throw std::invalid_argument(std::string("EurocWriter: ") + name + " image must be CV_8UC1 " +
-                                std::to_string(model.width()) + "x" + std::to_string(model.height()));
+                                std::to_string(model.width()) + "x" +
+                                std::to_string(model.height()));
   }
   const std::string filename = std::to_string(t) + ".png";
   const std::string path = (fs::path(root_) / name / "data" / filename).string();
@@ -149,7 +151,8 @@ void EurocWriter::addImu(const ImuSample& s) {
   checkOpen();
   checkTime(&imu_, s.t, "IMU");
   if (!s.gyro.allFinite() || !s.accel.allFinite()) {
-    throw std::invalid_argument("EurocWriter: IMU sample at " + std::to_string(s.t) + " is not finite");
+    throw std::invalid_argument("EurocWriter: IMU sample at " + std::to_string(s.t) +
+                                " is not finite");
   }
   line_.clear();
   appendInt(line_, s.t);

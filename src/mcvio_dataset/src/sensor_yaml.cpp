@@ -1,10 +1,10 @@
 #include "mcvio/dataset/sensor_yaml.hpp"
 
+#include <yaml-cpp/yaml.h>
+
 #include <cmath>
 #include <fstream>
 #include <vector>
-
-#include <yaml-cpp/yaml.h>
 
 #include "mcvio/core/input_error.hpp"
 #include "number_format.hpp"
@@ -25,7 +25,8 @@ class YamlFile {
     } catch (const YAML::BadFile&) {
       throw InputError(path_ + ": cannot open file (missing or unreadable)");
     } catch (const YAML::ParserException& e) {
-      throw InputError(path_ + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
+      throw InputError(path_ + ":" + std::to_string(e.mark.line + 1) +
+                       ": YAML syntax error: " + e.msg);
     }
     if (!root_.IsMap()) throw InputError(path_ + ": expected a YAML map of sensor keys");
   }
@@ -38,7 +39,8 @@ class YamlFile {
   YAML::Node require(const std::string& key) const { return require(root_, key); }
   bool has(const std::string& key) const { return static_cast<bool>(root_[key]); }
 
-  [[noreturn]] void fail(const YAML::Node& node, const std::string& key, const std::string& what) const {
+  [[noreturn]] void fail(const YAML::Node& node, const std::string& key,
+                         const std::string& what) const {
     const YAML::Mark mark = node.Mark();
     const std::string line = mark.line >= 0 ? ":" + std::to_string(mark.line + 1) : "";
     throw InputError(path_ + line + ": key '" + key + "' " + what);
@@ -70,8 +72,8 @@ class YamlFile {
     return node.Scalar();
   }
 
-  std::vector<double> numbers(const YAML::Node& node, const std::string& key,
-                              std::size_t min_count, std::size_t max_count) const {
+  std::vector<double> numbers(const YAML::Node& node, const std::string& key, std::size_t min_count,
+                              std::size_t max_count) const {
     if (!node.IsSequence()) fail(node, key, "must be a list of numbers");
     if (node.size() < min_count || node.size() > max_count) {
       fail(node, key,
@@ -88,7 +90,8 @@ class YamlFile {
     const YAML::Node node = require(key);
     if (!node.IsMap()) fail(node, key, "must be a map with rows, cols and data");
     for (const char* dim : {"rows", "cols"}) {
-      if (node[dim] && number(node[dim], key + "." + dim) != 4.0) fail(node[dim], key + "." + dim, "must be 4");
+      if (node[dim] && number(node[dim], key + "." + dim) != 4.0)
+        fail(node[dim], key + "." + dim, "must be 4");
     }
     const std::string data_key = key + ".data";
     const std::vector<double> d = numbers(require(node, "data"), data_key, 16, 16);
@@ -101,8 +104,9 @@ class YamlFile {
     const Eigen::Matrix3d R = m.topLeftCorner<3, 3>();
     const double orthogonality = (R.transpose() * R - Eigen::Matrix3d::Identity()).norm();
     if (orthogonality > 1e-5 || R.determinant() < 0.0) {
-      fail(node["data"], data_key, "rotation part is not a rotation matrix (|R^T R - I| = " +
-                                       formatDouble(orthogonality) + ")");
+      fail(node["data"], data_key,
+           "rotation part is not a rotation matrix (|R^T R - I| = " + formatDouble(orthogonality) +
+               ")");
     }
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.matrix() = m;
@@ -143,7 +147,8 @@ CameraCalibration SensorYaml::readCamera(const std::string& path, const std::str
   if (yaml.has("camera_model")) {
     const std::string model = yaml.text("camera_model");
     if (model != "pinhole") {
-      throw InputError(path + ": key 'camera_model': '" + model + "' is not supported (only pinhole)");
+      throw InputError(path + ": key 'camera_model': '" + model +
+                       "' is not supported (only pinhole)");
     }
   }
   const YAML::Node res_node = yaml.require("resolution");
@@ -167,21 +172,25 @@ CameraCalibration SensorYaml::readCamera(const std::string& path, const std::str
     // representable by this model.
     const std::size_t max_count = model == DistortionModel::kRadialTangential ? 5 : 4;
     const std::size_t min_count = model == DistortionModel::kNone ? 0 : 4;
-    const std::vector<double> d = yaml.numbers(node, "distortion_coefficients", min_count, max_count);
+    const std::vector<double> d =
+        yaml.numbers(node, "distortion_coefficients", min_count, max_count);
     if (d.size() == 5 && d[4] != 0.0) {
-      yaml.fail(node, "distortion_coefficients", "has a non-zero k3, which radial-tangential does not model");
+      yaml.fail(node, "distortion_coefficients",
+                "has a non-zero k3, which radial-tangential does not model");
     }
     if (model == DistortionModel::kNone) {
       for (double v : d) {
-        if (v != 0.0) yaml.fail(node, "distortion_coefficients", "must be zero for distortion_model none");
+        if (v != 0.0)
+          yaml.fail(node, "distortion_coefficients", "must be zero for distortion_model none");
       }
     } else {
       coefficients = Eigen::Vector4d(d[0], d[1], d[2], d[3]);
     }
   }
   try {
-    calibration.model = CameraModel(static_cast<int>(res[0]), static_cast<int>(res[1]),
-                                    Eigen::Vector4d(in[0], in[1], in[2], in[3]), model, coefficients);
+    calibration.model =
+        CameraModel(static_cast<int>(res[0]), static_cast<int>(res[1]),
+                    Eigen::Vector4d(in[0], in[1], in[2], in[3]), model, coefficients);
   } catch (const InputError& e) {
     throw InputError(path + ": " + e.what());
   }
@@ -204,7 +213,8 @@ ImuCalibration SensorYaml::readImu(const std::string& path, const std::string& n
 void SensorYaml::writeCamera(const std::string& path, const CameraCalibration& calibration) {
   const CameraModel& m = calibration.model;
   std::string out = "%YAML:1.0\n# General sensor definitions.\nsensor_type: camera\ncomment: " +
-                    calibration.name + " (written by mcvio)\n\n# Sensor extrinsics wrt. the body-frame.\n";
+                    calibration.name +
+                    " (written by mcvio)\n\n# Sensor extrinsics wrt. the body-frame.\n";
   appendTransform(out, calibration.T_BC);
   out += "\n# Camera specific definitions.\nrate_hz: ";
   appendDouble(out, calibration.rate_hz);
@@ -214,7 +224,8 @@ void SensorYaml::writeCamera(const std::string& path, const CameraCalibration& c
     appendDouble(out, m.intrinsics()[i]);
     out += i < 3 ? ", " : "] #fu, fv, cu, cv\n";
   }
-  out += std::string("distortion_model: ") + toString(m.distortionModel()) + "\ndistortion_coefficients: [";
+  out += std::string("distortion_model: ") + toString(m.distortionModel()) +
+         "\ndistortion_coefficients: [";
   if (m.distortionModel() != DistortionModel::kNone) {
     for (int i = 0; i < 4; ++i) {
       appendDouble(out, m.distortionCoefficients()[i]);

@@ -1,9 +1,9 @@
 // Each kind of bad input: a clear mcvio::InputError naming the file (and line), or a warning
 // naming it while the rest of the sequence still loads.
-#include <filesystem>
-
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
+
+#include <filesystem>
 
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/dataset/euroc_dataset.hpp"
@@ -41,8 +41,8 @@ class EurocBadInput : public ::testing::Test {
   }
 
   std::string imagePath(int camera, int frame) const {
-    return mav0_ + "/cam" + std::to_string(camera) + "/data/" + std::to_string(seq_.frame_times[frame]) +
-           ".png";
+    return mav0_ + "/cam" + std::to_string(camera) + "/data/" +
+           std::to_string(seq_.frame_times[frame]) + ".png";
   }
 
   std::string dir_, mav0_;
@@ -128,7 +128,8 @@ TEST_F(EurocBadInput, ImuDuplicateTimestamp) {
 }
 
 TEST_F(EurocBadInput, ImuNaN) {
-  replaceLine(mav0_ + "/imu0/data.csv", 7, std::to_string(seq_.imu[5].t) + ",0.1,0.2,nan,0.4,0.5,0.6");
+  replaceLine(mav0_ + "/imu0/data.csv", 7,
+              std::to_string(seq_.imu[5].t) + ",0.1,0.2,nan,0.4,0.5,0.6");
   const std::string message = openError();
   EXPECT_CONTAINS(message, mav0_ + "/imu0/data.csv:7:");
   EXPECT_CONTAINS(message, "not finite");
@@ -138,7 +139,8 @@ TEST_F(EurocBadInput, ImuTruncatedLastLine) {
   writeText(mav0_ + "/imu0/data.csv",
             readText(mav0_ + "/imu0/data.csv") + std::to_string(seq_.imu.back().t + 5) + ",0.1,0.");
   const int last_line = static_cast<int>(seq_.imu.size()) + 2;
-  EXPECT_CONTAINS(openError(), "imu0/data.csv:" + std::to_string(last_line) + ": IMU row has 3 columns");
+  EXPECT_CONTAINS(openError(),
+                  "imu0/data.csv:" + std::to_string(last_line) + ": IMU row has 3 columns");
 }
 
 TEST_F(EurocBadInput, ImuWithoutSamples) {
@@ -169,8 +171,9 @@ TEST_F(EurocBadInput, MissingGroundTruthFileIsAWarning) {
 }
 
 TEST_F(EurocBadInput, CameraCsvDuplicateTimestamp) {
-  replaceLine(mav0_ + "/cam0/data.csv", 4,
-              std::to_string(seq_.frame_times[1]) + "," + std::to_string(seq_.frame_times[2]) + ".png");
+  replaceLine(
+      mav0_ + "/cam0/data.csv", 4,
+      std::to_string(seq_.frame_times[1]) + "," + std::to_string(seq_.frame_times[2]) + ".png");
   const std::string message = openError();
   EXPECT_CONTAINS(message, mav0_ + "/cam0/data.csv:4:");
   EXPECT_CONTAINS(message, "duplicate timestamp");
@@ -196,7 +199,8 @@ TEST_F(EurocBadInput, SkipBadRowsKeepsTheRest) {
   // Three skipped rows plus the cam0 frame that lost its partner.
   ASSERT_EQ(data.warnings().size(), 4u);
   EXPECT_CONTAINS(data.warnings()[0], mav0_ + "/cam1/data.csv:3:");
-  EXPECT_CONTAINS(data.warnings()[1], mav0_ + "/cam0/data.csv: frame " + std::to_string(seq_.frame_times[1]));
+  EXPECT_CONTAINS(data.warnings()[1],
+                  mav0_ + "/cam0/data.csv: frame " + std::to_string(seq_.frame_times[1]));
   EXPECT_CONTAINS(data.warnings()[2], mav0_ + "/imu0/data.csv:3:");
   EXPECT_CONTAINS(data.warnings()[2], "row skipped");
   EXPECT_CONTAINS(data.warnings()[3], mav0_ + "/imu0/data.csv:9:");
@@ -209,8 +213,10 @@ TEST_F(EurocBadInput, MissingImageSkipsTheFrameWithWarnings) {
   EXPECT_EQ(data.stereoFrames()[2].t, seq_.frame_times[3]);
   ASSERT_EQ(data.warnings().size(), 2u);
   EXPECT_CONTAINS(data.warnings()[0], mav0_ + "/cam0/data.csv:4: image data/" +
-                                          std::to_string(seq_.frame_times[2]) + ".png does not exist");
-  EXPECT_CONTAINS(data.warnings()[1], mav0_ + "/cam1/data.csv: frame " + std::to_string(seq_.frame_times[2]) +
+                                          std::to_string(seq_.frame_times[2]) +
+                                          ".png does not exist");
+  EXPECT_CONTAINS(data.warnings()[1], mav0_ + "/cam1/data.csv: frame " +
+                                          std::to_string(seq_.frame_times[2]) +
                                           " has no cam0 image");
 }
 
@@ -353,8 +359,8 @@ TEST_F(EurocBadInput, LabelWithBadValues) {
 }
 
 TEST(EurocDatasetOptions, FromYamlValidatesKeys) {
-  const EurocDatasetOptions options =
-      EurocDatasetOptions::fromYaml(YAML::Load("{skip_bad_rows: true, max_stereo_offset_ns: 1000}"));
+  const EurocDatasetOptions options = EurocDatasetOptions::fromYaml(
+      YAML::Load("{skip_bad_rows: true, max_stereo_offset_ns: 1000}"));
   EXPECT_TRUE(options.skip_bad_rows);
   EXPECT_EQ(options.max_stereo_offset_ns, 1000);
   EXPECT_TRUE(options.check_image_size);
@@ -368,7 +374,8 @@ TEST(EurocDatasetOptions, FromYamlValidatesKeys) {
   };
   EXPECT_CONTAINS(error("{skip_bad_row: true}"), "unknown key 'skip_bad_row'");
   EXPECT_CONTAINS(error("{check_image_size: maybe}"), "'check_image_size'");
-  EXPECT_CONTAINS(error("{max_stereo_offset_ns: -5}"), "'max_stereo_offset_ns' must not be negative");
+  EXPECT_CONTAINS(error("{max_stereo_offset_ns: -5}"),
+                  "'max_stereo_offset_ns' must not be negative");
 }
 
 TEST_F(EurocBadInput, StereoOffsetTolerancePairsNearbyStamps) {

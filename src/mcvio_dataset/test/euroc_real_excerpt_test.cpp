@@ -1,7 +1,7 @@
+#include <gtest/gtest.h>
+
 #include <cstdlib>
 #include <filesystem>
-
-#include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 
 #include "mcvio/dataset/euroc_dataset.hpp"
@@ -108,8 +108,8 @@ TEST(EurocRealExcerpt, RewrittenExcerptReadsBackTheSame) {
   const EurocDataset again = EurocDataset::open(out);
   EXPECT_TRUE(again.warnings().empty());
   ASSERT_EQ(again.stereoFrames().size(), 5u);
-  EXPECT_EQ(cv::norm(again.loadImage(again.stereoFrames()[4], 1), data.loadImage(data.stereoFrames()[4], 1),
-                     cv::NORM_INF),
+  EXPECT_EQ(cv::norm(again.loadImage(again.stereoFrames()[4], 1),
+                     data.loadImage(data.stereoFrames()[4], 1), cv::NORM_INF),
             0.0);
   ASSERT_EQ(again.imu().size(), data.imu().size());
   for (std::size_t i = 0; i < data.imu().size(); ++i) {

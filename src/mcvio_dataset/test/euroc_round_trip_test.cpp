@@ -1,6 +1,6 @@
-#include <filesystem>
-
 #include <gtest/gtest.h>
+
+#include <filesystem>
 #include <opencv2/core.hpp>
 
 #include "mcvio/core/input_error.hpp"
@@ -37,8 +37,10 @@ TEST(EurocRoundTrip, WriteThenReadIsLossless) {
   expectSameCamera(data.calibration().cam0, seq.rig.cam0);
   expectSameCamera(data.calibration().cam1, seq.rig.cam1);
   EXPECT_EQ(data.calibration().imu.T_BS.matrix(), seq.rig.imu.T_BS.matrix());
-  EXPECT_EQ(data.calibration().imu.noise.gyroscope_noise_density, seq.rig.imu.noise.gyroscope_noise_density);
-  EXPECT_EQ(data.calibration().imu.noise.gyroscope_random_walk, seq.rig.imu.noise.gyroscope_random_walk);
+  EXPECT_EQ(data.calibration().imu.noise.gyroscope_noise_density,
+            seq.rig.imu.noise.gyroscope_noise_density);
+  EXPECT_EQ(data.calibration().imu.noise.gyroscope_random_walk,
+            seq.rig.imu.noise.gyroscope_random_walk);
   EXPECT_EQ(data.calibration().imu.noise.accelerometer_noise_density,
             seq.rig.imu.noise.accelerometer_noise_density);
   EXPECT_EQ(data.calibration().imu.noise.accelerometer_random_walk,
@@ -86,7 +88,9 @@ TEST(EurocRoundTrip, OpensMav0FolderDirectlyAndWritesEurocHeaders) {
   const EurocDataset data = EurocDataset::open(dir + "/mav0");
   EXPECT_EQ(data.stereoFrames().size(), 3u);
   EXPECT_EQ(test::readText(dir + "/mav0/cam0/data.csv").rfind("#timestamp [ns],filename\n", 0), 0u);
-  EXPECT_EQ(test::readText(dir + "/mav0/imu0/data.csv").rfind("#timestamp [ns],w_RS_S_x [rad s^-1]", 0), 0u);
+  EXPECT_EQ(
+      test::readText(dir + "/mav0/imu0/data.csv").rfind("#timestamp [ns],w_RS_S_x [rad s^-1]", 0),
+      0u);
   EXPECT_EQ(test::readText(dir + "/mav0/cam0/sensor.yaml").rfind("%YAML:1.0\n", 0), 0u);
   EXPECT_TRUE(fs::exists(dir + "/mav0/cam1/data/1403715273262142976.png"));
 }
@@ -109,11 +113,13 @@ TEST(EurocWriter, RejectsBadCallsWithoutWritingThem) {
   EurocWriter writer(dir, seq.rig);
   writer.addStereoFrame(seq.frame_times[0], seq.cam0[0], seq.cam1[0]);
   // Time not increasing.
-  EXPECT_THROW(writer.addStereoFrame(seq.frame_times[0], seq.cam0[1], seq.cam1[1]), std::invalid_argument);
+  EXPECT_THROW(writer.addStereoFrame(seq.frame_times[0], seq.cam0[1], seq.cam1[1]),
+               std::invalid_argument);
   // Wrong size and type.
   EXPECT_THROW(writer.addStereoFrame(seq.frame_times[1], cv::Mat(10, 10, CV_8UC1), seq.cam1[1]),
                std::invalid_argument);
-  EXPECT_THROW(writer.addImage(1, seq.frame_times[1], cv::Mat(48, 64, CV_16UC1)), std::invalid_argument);
+  EXPECT_THROW(writer.addImage(1, seq.frame_times[1], cv::Mat(48, 64, CV_16UC1)),
+               std::invalid_argument);
   ImuSample bad;
   bad.t = 5;
   bad.gyro.x() = std::numeric_limits<double>::quiet_NaN();

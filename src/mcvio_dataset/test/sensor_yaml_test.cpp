@@ -71,7 +71,8 @@ TEST(SensorYaml, RejectsNonIntegerResolution) {
     SensorYaml::readCamera(path, "cam0");
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(path + ":11: key 'resolution'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(path + ":11: key 'resolution'"), std::string::npos)
+        << e.what();
   }
 }
 

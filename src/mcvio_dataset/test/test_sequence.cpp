@@ -1,12 +1,12 @@
 #include "test_sequence.hpp"
 
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <fstream>
 #include <random>
 #include <sstream>
 #include <stdexcept>
-
-#include <gtest/gtest.h>
 
 #include "mcvio/dataset/euroc_writer.hpp"
 
@@ -21,13 +21,16 @@ StereoRigCalibration makeRig() {
                                DistortionModel::kRadialTangential,
                                {-0.28340811, 0.07395907, 0.00019359, 1.76187114e-05});
   rig.cam0.rate_hz = 20.0;
-  rig.cam0.T_BC.linear() = Eigen::AngleAxisd(0.1, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  rig.cam0.T_BC.linear() =
+      Eigen::AngleAxisd(0.1, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
   rig.cam0.T_BC.translation() = Eigen::Vector3d(-0.0216401454975, -0.064676986768, 0.1 / 3.0);
   rig.cam1.name = "cam1";
-  rig.cam1.model = CameraModel(64, 48, {40.0 / 3.0, 40.0 / 7.0, 32.0, 24.0}, DistortionModel::kEquidistant,
-                               {0.0034823894, 0.000715034, -0.0020532361, 0.00020293673});
+  rig.cam1.model =
+      CameraModel(64, 48, {40.0 / 3.0, 40.0 / 7.0, 32.0, 24.0}, DistortionModel::kEquidistant,
+                  {0.0034823894, 0.000715034, -0.0020532361, 0.00020293673});
   rig.cam1.rate_hz = 20.0;
-  rig.cam1.T_BC.linear() = Eigen::AngleAxisd(-0.2, Eigen::Vector3d(3, 1, 2).normalized()).toRotationMatrix();
+  rig.cam1.T_BC.linear() =
+      Eigen::AngleAxisd(-0.2, Eigen::Vector3d(3, 1, 2).normalized()).toRotationMatrix();
   rig.cam1.T_BC.translation() = Eigen::Vector3d(0.11, 1.0 / 9.0, -0.002);
   rig.imu.noise.gyroscope_noise_density = 1.6968e-04;
   rig.imu.noise.gyroscope_random_walk = 1.9393e-05;
@@ -59,7 +62,8 @@ TestSequence makeSequence(int frames, unsigned seed) {
     GroundTruthState gt;
     gt.t = t;
     gt.p_WB = Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
-    gt.q_WB = Eigen::Quaterniond(Eigen::Vector4d(noise(rng), noise(rng), noise(rng), noise(rng)).normalized());
+    gt.q_WB = Eigen::Quaterniond(
+        Eigen::Vector4d(noise(rng), noise(rng), noise(rng), noise(rng)).normalized());
     gt.v_WB = Eigen::Vector3d(noise(rng), noise(rng), noise(rng)) * 1e-3;
     gt.bias_gyro = Eigen::Vector3d(noise(rng), noise(rng), noise(rng)) * 1e-7;
     gt.bias_accel = Eigen::Vector3d(noise(rng), noise(rng), noise(rng)) * 1e12;

@@ -1,9 +1,8 @@
 #pragma once
 // Deterministic synthetic EuRoC sequences for the dataset tests.
+#include <opencv2/core/mat.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core/mat.hpp>
 
 #include "mcvio/core/imu_sample.hpp"
 #include "mcvio/core/stereo_rig_calibration.hpp"

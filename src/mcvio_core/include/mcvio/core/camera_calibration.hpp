@@ -1,7 +1,6 @@
 #pragma once
-#include <string>
-
 #include <Eigen/Geometry>
+#include <string>
 
 #include "mcvio/core/camera_model.hpp"
 

@@ -1,7 +1,6 @@
 #pragma once
-#include <string>
-
 #include <Eigen/Core>
+#include <string>
 
 namespace mcvio {
 

@@ -1,8 +1,7 @@
 #pragma once
+#include <opencv2/core/mat.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core/mat.hpp>
 
 #include "mcvio/core/imu_sample.hpp"
 #include "mcvio/core/input_error.hpp"

@@ -1,9 +1,8 @@
 #pragma once
 #include <cstdio>
 #include <memory>
-#include <string>
-
 #include <opencv2/core/mat.hpp>
+#include <string>
 
 #include "mcvio/core/imu_sample.hpp"
 #include "mcvio/core/input_error.hpp"

@@ -10,11 +10,11 @@ namespace mcvio::dataset {
 /// frame W, its velocity and the IMU biases.
 struct GroundTruthState {
   Timestamp t = 0;
-  Eigen::Vector3d p_WB = Eigen::Vector3d::Zero();             ///< position [m]
+  Eigen::Vector3d p_WB = Eigen::Vector3d::Zero();            ///< position [m]
   Eigen::Quaterniond q_WB = Eigen::Quaterniond::Identity();  ///< orientation (w first in the CSV)
-  Eigen::Vector3d v_WB = Eigen::Vector3d::Zero();             ///< velocity in W [m/s]
-  Eigen::Vector3d bias_gyro = Eigen::Vector3d::Zero();        ///< [rad/s]
-  Eigen::Vector3d bias_accel = Eigen::Vector3d::Zero();       ///< [m/s^2]
+  Eigen::Vector3d v_WB = Eigen::Vector3d::Zero();            ///< velocity in W [m/s]
+  Eigen::Vector3d bias_gyro = Eigen::Vector3d::Zero();       ///< [rad/s]
+  Eigen::Vector3d bias_accel = Eigen::Vector3d::Zero();      ///< [m/s^2]
 };
 
 }  // namespace mcvio::dataset
