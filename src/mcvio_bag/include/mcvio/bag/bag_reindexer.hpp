@@ -1,0 +1,22 @@
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "mcvio/bag/bag_metadata.hpp"
+
+namespace mcvio::bag {
+
+/// Rebuilds a bag after a crash (`mcvio bag reindex`): finishes unfinished MCAP files
+/// (McapRepairer), folds sqlite3 write-ahead logs into their .db3 files, and rewrites
+/// metadata.yaml from what the storage files really hold.
+class BagReindexer {
+ public:
+  /// Returns the new metadata. InputError when the directory holds no storage files, mixes
+  /// .mcap and .db3, or a file is unusable (e.g. not MCAP at all).
+  /// `log` (optional) receives one line per file describing what was done.
+  static BagMetadata reindex(const std::filesystem::path& bag_dir,
+                             std::vector<std::string>* log = nullptr);
+};
+
+}  // namespace mcvio::bag

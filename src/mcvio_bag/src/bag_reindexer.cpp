@@ -1,0 +1,145 @@
+#include "mcvio/bag/bag_reindexer.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <map>
+
+#include "mcvio/bag/mcap_reader.hpp"
+#include "mcvio/bag/mcap_repairer.hpp"
+#include "mcvio/bag/sqlite_reader.hpp"
+#include "mcvio/core/input_error.hpp"
+
+namespace mcvio::bag {
+
+namespace {
+
+/// The split number n of "<name>_<n>.<ext>", or -1.
+long splitIndex(const std::filesystem::path& p) {
+  const std::string stem = p.stem().string();
+  const auto us = stem.rfind('_');
+  if (us == std::string::npos || us + 1 == stem.size()) return -1;
+  const std::string digits = stem.substr(us + 1);
+  if (!std::all_of(digits.begin(), digits.end(), [](unsigned char c) { return std::isdigit(c); }) ||
+      digits.size() > 9) {
+    return -1;
+  }
+  return std::stol(digits);
+}
+
+}  // namespace
+
+BagMetadata BagReindexer::reindex(const std::filesystem::path& bag_dir,
+                                  std::vector<std::string>* log) {
+  if (!std::filesystem::is_directory(bag_dir)) {
+    throw InputError(bag_dir.string() + ": not a bag directory");
+  }
+  BagMetadata old;
+  bool have_old = false;
+  try {
+    old = readBagMetadata(bag_dir);
+    have_old = true;
+  } catch (const InputError&) {
+    // Missing or damaged: rebuilt from the files alone.
+  }
+  std::vector<std::filesystem::path> mcaps;
+  std::vector<std::filesystem::path> dbs;
+  for (const auto& e : std::filesystem::directory_iterator(bag_dir)) {
+    if (!e.is_regular_file()) continue;
+    const auto ext = e.path().extension().string();
+    if (ext == ".mcap") mcaps.push_back(e.path());
+    if (ext == ".db3") dbs.push_back(e.path());
+  }
+  if (mcaps.empty() && dbs.empty()) {
+    throw InputError(bag_dir.string() + ": no .mcap or .db3 storage files to reindex");
+  }
+  if (!mcaps.empty() && !dbs.empty()) {
+    throw InputError(bag_dir.string() + ": holds both .mcap and .db3 files; which storage is meant?");
+  }
+  auto files = mcaps.empty() ? dbs : mcaps;
+  std::sort(files.begin(), files.end(), [](const auto& a, const auto& b) {
+    const long ia = splitIndex(a);
+    const long ib = splitIndex(b);
+    return ia != ib ? ia < ib : a.filename() < b.filename();
+  });
+
+  BagMetadata m;
+  m.storage_identifier = mcaps.empty() ? "sqlite3" : "mcap";
+  if (have_old) {
+    m.ros_distro = old.ros_distro;
+    m.custom_data = old.custom_data;
+    m.compression_format = old.compression_format;
+    m.compression_mode = old.compression_mode;
+  }
+  std::vector<TopicInformation> topics;
+  std::map<std::string, std::size_t> topic_pos;
+  bool any = false;
+  Timestamp start = 0;
+  Timestamp end = 0;
+  for (const auto& path : files) {
+    std::unique_ptr<StorageFileReader> reader;
+    if (m.storage_identifier == "mcap") {
+      const McapRepairReport rep = McapRepairer::repair(path);
+      if (log) {
+        log->push_back(path.filename().string() +
+                       (rep.was_complete ? ": intact"
+                                         : ": repaired, kept " + std::to_string(rep.kept_bytes) +
+                                               " bytes, dropped " +
+                                               std::to_string(rep.dropped_bytes)) +
+                       ", " + std::to_string(rep.chunks) + " chunks, " +
+                       std::to_string(rep.messages) + " messages");
+      }
+      reader = std::make_unique<McapReader>(path, McapReadMode::Strict);
+    } else {
+      SqliteReader::recover(path);
+      auto sr = std::make_unique<SqliteReader>(path);
+      if (!have_old) {
+        // The file's own copy of the metadata knows the message compression.
+        const std::string yaml = sr->storedMetadataYaml();
+        if (!yaml.empty()) {
+          try {
+            const BagMetadata stored = bagMetadataFromYaml(yaml, path.string());
+            m.compression_format = stored.compression_format;
+            m.compression_mode = stored.compression_mode;
+            m.ros_distro = stored.ros_distro;
+          } catch (const InputError&) {
+            // Unreadable copy: keep the defaults.
+          }
+        }
+      }
+      if (log) log->push_back(path.filename().string() + ": write-ahead log folded in");
+      reader = std::move(sr);
+    }
+    const FileStatistics s = reader->statistics();
+    for (const auto& t : reader->topics()) {
+      if (topic_pos.count(t.name)) continue;
+      topic_pos[t.name] = topics.size();
+      TopicInformation ti;
+      ti.topic = t;
+      ti.topic.message_definition.clear();
+      topics.push_back(std::move(ti));
+    }
+    for (const auto& [name, n] : s.topic_message_counts) {
+      if (topic_pos.count(name)) topics[topic_pos[name]].message_count += n;
+    }
+    FileInformation fi;
+    fi.path = path.filename().string();
+    fi.message_count = s.message_count;
+    fi.starting_time = s.start_time;
+    fi.duration = s.end_time - s.start_time;
+    m.relative_file_paths.push_back(fi.path);
+    m.files.push_back(fi);
+    if (s.message_count > 0) {
+      start = any ? std::min(start, s.start_time) : s.start_time;
+      end = any ? std::max(end, s.end_time) : s.end_time;
+      any = true;
+    }
+    m.message_count += s.message_count;
+  }
+  m.topics_with_message_count = std::move(topics);
+  m.starting_time = start;
+  m.duration = end - start;
+  writeBagMetadata(bag_dir, m);
+  return m;
+}
+
+}  // namespace mcvio::bag

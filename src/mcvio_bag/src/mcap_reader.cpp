@@ -1,0 +1,565 @@
+#include "mcvio/bag/mcap_reader.hpp"
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstring>
+#include <sstream>
+
+#include "byte_io.hpp"
+#include "mcvio/bag/compression.hpp"
+#include "mcvio/bag/crc32.hpp"
+#include "mcvio/bag/message_definition.hpp"
+#include "mcvio/core/input_error.hpp"
+
+namespace mcvio::bag {
+
+using detail::ByteReader;
+using detail::ShortRead;
+
+namespace {
+
+std::uint64_t readU64(const std::uint8_t* p) {
+  std::uint64_t v;
+  std::memcpy(&v, p, 8);
+  return v;
+}
+
+/// Largest chunk we agree to decompress; protects against forged sizes.
+constexpr std::uint64_t kMaxChunkSize = 4ull << 30;
+
+}  // namespace
+
+McapReader::McapReader(const std::filesystem::path& path, McapReadMode mode)
+    : name_(path.string()) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw InputError(name_ + ": cannot open (" + std::strerror(errno) + ")");
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    throw InputError(name_ + ": not a regular file");
+  }
+  size_ = static_cast<std::uint64_t>(st.st_size);
+  if (size_ > 0) {
+    map_ = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd, 0);
+    if (map_ == MAP_FAILED) {
+      map_ = nullptr;
+      ::close(fd);
+      throw InputError(name_ + ": cannot map (" + std::strerror(errno) + ")");
+    }
+    data_ = static_cast<const std::uint8_t*>(map_);
+  }
+  ::close(fd);
+  try {
+    load(mode);
+  } catch (...) {
+    if (map_ != nullptr) ::munmap(map_, size_);
+    map_ = nullptr;
+    throw;
+  }
+}
+
+McapReader::McapReader(std::vector<std::uint8_t> bytes, std::string name, McapReadMode mode)
+    : name_(std::move(name)), owned_(std::move(bytes)) {
+  data_ = owned_.data();
+  size_ = owned_.size();
+  load(mode);
+}
+
+McapReader::~McapReader() {
+  if (map_ != nullptr) ::munmap(map_, size_);
+}
+
+void McapReader::fail(std::uint64_t offset, const std::string& what) const {
+  std::ostringstream os;
+  os << name_ << ": " << what << " at byte offset " << offset;
+  throw InputError(os.str());
+}
+
+void McapReader::load(McapReadMode mode) {
+  if (size_ < sizeof(mcap::kMagic) || std::memcmp(data_, mcap::kMagic, sizeof(mcap::kMagic)) != 0) {
+    fail(0, "not an MCAP file (wrong magic)");
+  }
+  // The Header must be the first record.
+  if (size_ < 8 + mcap::kRecordPrefix || data_[8] != mcap::kHeader) {
+    fail(8, "missing Header record");
+  }
+  {
+    const std::uint64_t len = readU64(data_ + 9);
+    if (len > size_ - 17) fail(8, "truncated Header record");
+    try {
+      ByteReader r(data_ + 17, len);
+      r.str("profile");
+      r.str("library");
+    } catch (const ShortRead& e) {
+      fail(17 + e.offset, std::string("malformed Header record: ") + e.what());
+    }
+  }
+  const bool has_footer =
+      size_ >= 8 + mcap::kRecordPrefix + mcap::kFooterAndMagic &&
+      std::memcmp(data_ + size_ - 8, mcap::kMagic, 8) == 0 &&
+      data_[size_ - mcap::kFooterAndMagic] == mcap::kFooter &&
+      readU64(data_ + size_ - mcap::kFooterAndMagic + 1) == 20;
+  if (mode == McapReadMode::Recover) {
+    linearScan(mode, size_);
+  } else {
+    if (!has_footer) {
+      fail(size_, "truncated or unfinished MCAP file (no Footer record and trailing magic; "
+                  "`mcvio bag reindex` recovers its complete chunks)");
+    }
+    const std::uint64_t footer_pos = size_ - mcap::kFooterAndMagic;
+    const std::uint8_t* f = data_ + footer_pos + mcap::kRecordPrefix;
+    const std::uint64_t summary_start = readU64(f);
+    const std::uint64_t summary_offset_start = readU64(f + 8);
+    std::uint32_t summary_crc;
+    std::memcpy(&summary_crc, f + 16, 4);
+    if (summary_start != 0) {
+      loadSummary(footer_pos, summary_start, summary_offset_start, summary_crc);
+    } else {
+      linearScan(mode, footer_pos);
+    }
+  }
+  finishTopics();
+}
+
+void McapReader::addSchema(std::uint64_t pos, const std::uint8_t* p, std::uint64_t len) {
+  mcap::Schema s;
+  try {
+    ByteReader r(p, len);
+    s.id = r.u16();
+    s.name = r.str("name");
+    s.encoding = r.str("encoding");
+    s.data = r.str("data");
+  } catch (const ShortRead& e) {
+    fail(pos, std::string("malformed Schema record: ") + e.what());
+  }
+  if (s.id == 0) return;  // invalid by the spec; readers ignore it
+  for (const auto& old : schemas_) {
+    if (old.id == s.id) {
+      if (old.name != s.name || old.encoding != s.encoding || old.data != s.data) {
+        fail(pos, "Schema record " + std::to_string(s.id) + " differs from an earlier one");
+      }
+      return;
+    }
+  }
+  if (s.encoding == "ros2msg") {
+    try {
+      MessageDefinitionParser::parse(s.name, s.data);
+    } catch (const InputError& e) {
+      fail(pos, std::string("schema does not parse: ") + e.what());
+    }
+  }
+  schemas_.push_back(std::move(s));
+}
+
+void McapReader::addChannel(std::uint64_t pos, const std::uint8_t* p, std::uint64_t len) {
+  mcap::Channel c;
+  try {
+    ByteReader r(p, len);
+    c.id = r.u16();
+    c.schema_id = r.u16();
+    c.topic = r.str("topic");
+    c.message_encoding = r.str("message_encoding");
+    c.metadata = r.stringMap("metadata");
+  } catch (const ShortRead& e) {
+    fail(pos, std::string("malformed Channel record: ") + e.what());
+  }
+  for (const auto& old : channels_) {
+    if (old.id == c.id) {
+      if (old.topic != c.topic || old.schema_id != c.schema_id) {
+        fail(pos, "Channel record " + std::to_string(c.id) + " differs from an earlier one");
+      }
+      return;
+    }
+  }
+  if (c.schema_id != 0 &&
+      std::none_of(schemas_.begin(), schemas_.end(), [&](const auto& s) { return s.id == c.schema_id; })) {
+    fail(pos, "Channel " + std::to_string(c.id) + " refers to unknown schema " +
+                  std::to_string(c.schema_id));
+  }
+  channels_.push_back(std::move(c));
+}
+
+void McapReader::parseChunkRecord(std::uint64_t pos, mcap::ChunkInfo& info) const {
+  if (pos > size_ || size_ - pos < mcap::kRecordPrefix || data_[pos] != mcap::kChunk) {
+    fail(pos, "expected a Chunk record");
+  }
+  const std::uint64_t len = readU64(data_ + pos + 1);
+  if (len > size_ - pos - mcap::kRecordPrefix) fail(pos, "truncated Chunk record");
+  try {
+    ByteReader r(data_ + pos + mcap::kRecordPrefix, len);
+    info.start_offset = pos;
+    info.length = mcap::kRecordPrefix + len;
+    info.message_start_time = r.u64();
+    info.message_end_time = r.u64();
+    info.uncompressed_size = r.u64();
+    info.uncompressed_crc = r.u32();
+    info.compression = r.str("compression");
+    info.compressed_size = r.u64();
+    r.need(info.compressed_size, "records");
+    info.records_offset = pos + mcap::kRecordPrefix + r.pos();
+  } catch (const ShortRead& e) {
+    fail(pos, std::string("malformed Chunk record: ") + e.what());
+  }
+  if (info.uncompressed_size > kMaxChunkSize) fail(pos, "Chunk uncompressed size is implausible");
+  if (info.compression != "" && info.compression != "zstd" && info.compression != "lz4") {
+    fail(pos, "Chunk uses unsupported compression '" + info.compression + "'");
+  }
+}
+
+void McapReader::decompressChunk(std::uint32_t chunk_no, std::vector<std::uint8_t>& out) const {
+  const mcap::ChunkInfo& c = chunks_[chunk_no];
+  try {
+    Codec::decompress(compressionFromString(c.compression), data_ + c.records_offset,
+                      c.compressed_size, c.uncompressed_size, out);
+  } catch (const std::exception& e) {
+    fail(c.start_offset, std::string("Chunk does not decompress: ") + e.what());
+  }
+  if (c.uncompressed_crc != 0) {
+    const std::uint32_t crc = Crc32::update(0, out.data(), out.size());
+    if (crc != c.uncompressed_crc) fail(c.start_offset, "bad CRC of Chunk records");
+  }
+}
+
+void McapReader::scanChunkRecords(std::uint32_t chunk_no, const std::vector<std::uint8_t>& records,
+                                  bool collect_definitions) {
+  mcap::ChunkInfo& c = chunks_[chunk_no];
+  std::uint64_t p = 0;
+  const std::uint64_t n = records.size();
+  while (p < n) {
+    if (n - p < mcap::kRecordPrefix) fail(c.start_offset, "truncated record inside Chunk");
+    const std::uint8_t op = records[p];
+    const std::uint64_t len = readU64(records.data() + p + 1);
+    if (len > n - p - mcap::kRecordPrefix) {
+      fail(c.start_offset, "record inside Chunk (uncompressed offset " + std::to_string(p) +
+                               ") runs past the Chunk");
+    }
+    const std::uint8_t* body = records.data() + p + mcap::kRecordPrefix;
+    if (op == mcap::kSchema && collect_definitions) {
+      addSchema(c.start_offset, body, len);
+    } else if (op == mcap::kChannel && collect_definitions) {
+      addChannel(c.start_offset, body, len);
+    } else if (op == mcap::kMessage) {
+      if (len < 22) fail(c.start_offset, "Message record inside Chunk is too short");
+      std::uint16_t ch;
+      std::memcpy(&ch, body, 2);
+      const std::uint64_t t = readU64(body + 6);
+      entries_.push_back({t, chunk_no, ch, p});
+      c.message_index[ch].emplace_back(t, p);
+    }
+    p += mcap::kRecordPrefix + len;
+  }
+}
+
+void McapReader::linearScan(McapReadMode mode, std::uint64_t limit) {
+  const bool strict = mode == McapReadMode::Strict;
+  std::uint64_t pos = 8;
+  valid_end_ = pos;
+  std::vector<std::uint8_t> records;
+  std::set<std::uint16_t> indexed;  // channels with a Message Index after the last chunk
+  auto closeChunkIndexes = [&] {
+    if (chunks_.empty()) return;
+    std::set<std::uint16_t> needed;
+    for (const auto& [ch, e] : chunks_.back().message_index) needed.insert(ch);
+    chunk_index_complete_.back() = needed == indexed;
+  };
+  while (pos < limit) {
+    if (limit - pos < mcap::kRecordPrefix) {
+      if (strict) fail(pos, "truncated record");
+      break;
+    }
+    const std::uint8_t op = data_[pos];
+    const std::uint64_t len = readU64(data_ + pos + 1);
+    if (len > limit - pos - mcap::kRecordPrefix) {
+      if (strict) fail(pos, "truncated record (opcode " + std::to_string(op) + ")");
+      break;
+    }
+    const std::uint8_t* body = data_ + pos + mcap::kRecordPrefix;
+    try {
+      if (op == mcap::kHeader && pos != 8) {
+        fail(pos, "second Header record");
+      } else if (op == mcap::kSchema) {
+        addSchema(pos, body, len);
+      } else if (op == mcap::kChannel) {
+        addChannel(pos, body, len);
+      } else if (op == mcap::kMessage) {
+        if (len < 22) fail(pos, "Message record is too short");
+        std::uint16_t ch;
+        std::memcpy(&ch, body, 2);
+        entries_.push_back({readU64(body + 6), kNoChunk, ch, pos});
+      } else if (op == mcap::kChunk) {
+        closeChunkIndexes();
+        mcap::ChunkInfo info;
+        parseChunkRecord(pos, info);
+        chunks_.push_back(info);
+        chunk_index_complete_.push_back(false);
+        const auto no = static_cast<std::uint32_t>(chunks_.size() - 1);
+        const std::size_t entries_before = entries_.size();
+        const std::size_t schemas_before = schemas_.size();
+        const std::size_t channels_before = channels_.size();
+        try {
+          decompressChunk(no, records);
+          scanChunkRecords(no, records, true);
+        } catch (const InputError&) {
+          if (strict) throw;
+          // Recover: drop the damaged chunk and everything after it.
+          chunks_.pop_back();
+          chunk_index_complete_.pop_back();
+          entries_.resize(entries_before);
+          schemas_.resize(schemas_before);
+          channels_.resize(channels_before);
+          break;
+        }
+        indexed.clear();
+      } else if (op == mcap::kMessageIndex) {
+        ByteReader r(body, len);
+        const std::uint16_t ch = r.u16();
+        ByteReader entries = r.sub32("records");
+        if (entries.remaining() % 16 != 0) fail(pos, "Message Index entries are not 16-byte pairs");
+        if (!chunks_.empty()) {
+          indexed.insert(ch);
+          auto& c = chunks_.back();
+          c.message_index_offsets[ch] = pos;
+          c.message_index_length = pos + mcap::kRecordPrefix + len - (c.start_offset + c.length);
+        }
+      } else if (op == mcap::kDataEnd) {
+        closeChunkIndexes();
+        data_end_found_ = true;
+        if (strict && len >= 4) {
+          std::uint32_t crc;
+          std::memcpy(&crc, body, 4);
+          if (crc != 0 && crc != Crc32::update(0, data_, pos)) fail(pos, "bad data section CRC");
+        }
+        valid_end_ = pos;
+        break;
+      } else if (op == mcap::kFooter) {
+        if (strict) fail(pos, "Footer record inside the data section");
+        break;
+      }
+    } catch (const ShortRead& e) {
+      if (strict) fail(pos, std::string("malformed record: ") + e.what());
+      break;
+    } catch (const InputError&) {
+      if (strict) throw;
+      break;
+    }
+    pos += mcap::kRecordPrefix + len;
+    valid_end_ = pos;
+  }
+  if (!data_end_found_) closeChunkIndexes();
+  std::stable_sort(entries_.begin(), entries_.end(),
+                   [](const Entry& a, const Entry& b) { return a.log_time < b.log_time; });
+}
+
+void McapReader::loadSummary(std::uint64_t footer_pos, std::uint64_t summary_start,
+                             std::uint64_t summary_offset_start, std::uint32_t summary_crc) {
+  used_summary_ = true;
+  const std::uint64_t footer_at = footer_pos;
+  if (summary_start < 8 + mcap::kRecordPrefix || summary_start > footer_pos) {
+    fail(footer_at, "Footer points to a summary outside the file");
+  }
+  std::uint64_t end = footer_pos;
+  if (summary_offset_start != 0) {
+    if (summary_offset_start < summary_start || summary_offset_start > footer_pos) {
+      fail(footer_at, "Footer points to summary offsets outside the summary");
+    }
+    end = summary_offset_start;
+  }
+  if (summary_crc != 0) {
+    const std::uint64_t crc_end = footer_pos + mcap::kRecordPrefix + 16;
+    if (Crc32::update(0, data_ + summary_start, crc_end - summary_start) != summary_crc) {
+      fail(footer_at, "bad summary CRC");
+    }
+  }
+  std::vector<mcap::ChunkInfo> indexes;
+  std::uint64_t pos = summary_start;
+  while (pos < end) {
+    if (end - pos < mcap::kRecordPrefix) fail(pos, "truncated summary record");
+    const std::uint8_t op = data_[pos];
+    const std::uint64_t len = readU64(data_ + pos + 1);
+    if (len > end - pos - mcap::kRecordPrefix) fail(pos, "truncated summary record");
+    const std::uint8_t* body = data_ + pos + mcap::kRecordPrefix;
+    try {
+      if (op == mcap::kSchema) {
+        addSchema(pos, body, len);
+      } else if (op == mcap::kChannel) {
+        addChannel(pos, body, len);
+      } else if (op == mcap::kChunkIndex) {
+        ByteReader r(body, len);
+        mcap::ChunkInfo ci;
+        ci.message_start_time = r.u64();
+        ci.message_end_time = r.u64();
+        ci.start_offset = r.u64();
+        ci.length = r.u64();
+        ByteReader offsets = r.sub32("message_index_offsets");
+        while (!offsets.done()) {
+          const std::uint16_t ch = offsets.u16();
+          ci.message_index_offsets[ch] = offsets.u64();
+        }
+        ci.message_index_length = r.u64();
+        ci.compression = r.str("compression");
+        ci.compressed_size = r.u64();
+        ci.uncompressed_size = r.u64();
+        indexes.push_back(std::move(ci));
+      }
+    } catch (const ShortRead& e) {
+      fail(pos, std::string("malformed summary record: ") + e.what());
+    }
+    pos += mcap::kRecordPrefix + len;
+  }
+  for (const auto& ci : indexes) {
+    if (ci.start_offset >= summary_start || ci.length > summary_start - ci.start_offset) {
+      fail(ci.start_offset, "Chunk Index points outside the data section");
+    }
+    mcap::ChunkInfo info;
+    parseChunkRecord(ci.start_offset, info);
+    if (info.length != ci.length || info.compressed_size != ci.compressed_size ||
+        info.uncompressed_size != ci.uncompressed_size || info.compression != ci.compression) {
+      fail(ci.start_offset, "Chunk record disagrees with its Chunk Index");
+    }
+    info.message_index_offsets = ci.message_index_offsets;
+    info.message_index_length = ci.message_index_length;
+    chunks_.push_back(std::move(info));
+    chunk_index_complete_.push_back(!ci.message_index_offsets.empty());
+    const auto no = static_cast<std::uint32_t>(chunks_.size() - 1);
+    if (ci.message_index_offsets.empty()) {
+      // No message indexes: find the messages by scanning the chunk.
+      std::vector<std::uint8_t> records;
+      decompressChunk(no, records);
+      scanChunkRecords(no, records, false);
+      continue;
+    }
+    for (const auto& [ch, off] : ci.message_index_offsets) {
+      if (off >= summary_start || summary_start - off < mcap::kRecordPrefix ||
+          data_[off] != mcap::kMessageIndex) {
+        fail(off, "Chunk Index points to a missing Message Index record");
+      }
+      const std::uint64_t len = readU64(data_ + off + 1);
+      if (len > summary_start - off - mcap::kRecordPrefix) fail(off, "truncated Message Index");
+      try {
+        ByteReader r(data_ + off + mcap::kRecordPrefix, len);
+        if (r.u16() != ch) fail(off, "Message Index is for another channel than its Chunk Index says");
+        ByteReader e = r.sub32("records");
+        if (e.remaining() % 16 != 0) fail(off, "Message Index entries are not 16-byte pairs");
+        auto& list = chunks_.back().message_index[ch];
+        while (!e.done()) {
+          const std::uint64_t t = e.u64();
+          const std::uint64_t o = e.u64();
+          if (o >= info.uncompressed_size) fail(off, "Message Index offset outside its Chunk");
+          list.emplace_back(t, o);
+          entries_.push_back({t, no, ch, o});
+        }
+      } catch (const ShortRead& e) {
+        fail(off, std::string("malformed Message Index: ") + e.what());
+      }
+    }
+  }
+  std::stable_sort(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) {
+    if (a.log_time != b.log_time) return a.log_time < b.log_time;
+    if (a.chunk != b.chunk) return a.chunk < b.chunk;
+    return a.offset < b.offset;
+  });
+}
+
+void McapReader::finishTopics() {
+  channel_topic_.assign(65536, -1);
+  for (const auto& c : channels_) {
+    TopicInfo t;
+    t.name = c.topic;
+    t.serialization_format = c.message_encoding;
+    if (auto it = c.metadata.find("offered_qos_profiles"); it != c.metadata.end()) {
+      t.offered_qos_profiles = it->second;
+    }
+    if (auto it = c.metadata.find("topic_type_hash"); it != c.metadata.end()) {
+      t.type_description_hash = it->second;
+    }
+    for (const auto& s : schemas_) {
+      if (s.id == c.schema_id) {
+        t.type = s.name;
+        t.message_definition = s.data;
+      }
+    }
+    channel_topic_[c.id] = static_cast<int>(topics_.size());
+    topics_.push_back(std::move(t));
+  }
+  channel_selected_.assign(65536, true);
+  for (const auto& e : entries_) {
+    if (channel_topic_[e.channel] < 0) {
+      const std::uint64_t at = e.chunk == kNoChunk ? e.offset : chunks_[e.chunk].start_offset;
+      fail(at, "Message on channel " + std::to_string(e.channel) + " that was never declared");
+    }
+  }
+}
+
+void McapReader::setTopicFilter(const std::set<std::string>& topics) {
+  for (const auto& c : channels_) {
+    channel_selected_[c.id] = topics.empty() || topics.count(c.topic) != 0;
+  }
+}
+
+bool McapReader::next(BagMessage& out) {
+  while (cursor_ < entries_.size()) {
+    const Entry e = entries_[cursor_++];
+    if (!channel_selected_[e.channel]) continue;
+    const std::uint8_t* rec = nullptr;
+    std::uint64_t avail = 0;
+    std::uint64_t report_at = e.offset;
+    if (e.chunk == kNoChunk) {
+      rec = data_ + e.offset;
+      avail = size_ - e.offset;
+    } else {
+      if (cached_chunk_ != e.chunk) {
+        cached_chunk_ = kNoChunk;
+        decompressChunk(e.chunk, chunk_cache_);
+        cached_chunk_ = e.chunk;
+      }
+      report_at = chunks_[e.chunk].start_offset;
+      if (e.offset >= chunk_cache_.size()) fail(report_at, "message offset outside its Chunk");
+      rec = chunk_cache_.data() + e.offset;
+      avail = chunk_cache_.size() - e.offset;
+    }
+    if (avail < mcap::kRecordPrefix + 22 || rec[0] != mcap::kMessage) {
+      fail(report_at, "Message Index points to something that is not a Message record");
+    }
+    const std::uint64_t len = readU64(rec + 1);
+    if (len < 22 || len > avail - mcap::kRecordPrefix) fail(report_at, "truncated Message record");
+    const std::uint8_t* b = rec + mcap::kRecordPrefix;
+    std::uint16_t ch;
+    std::memcpy(&ch, b, 2);
+    if (ch != e.channel) fail(report_at, "Message Index channel differs from its Message record");
+    std::memcpy(&out.sequence, b + 2, 4);
+    out.log_time = static_cast<Timestamp>(readU64(b + 6));
+    out.publish_time = static_cast<Timestamp>(readU64(b + 14));
+    out.topic = topics_[static_cast<std::size_t>(channel_topic_[ch])].name;
+    out.data.assign(b + 22, b + len);
+    return true;
+  }
+  return false;
+}
+
+FileStatistics McapReader::statistics() const {
+  FileStatistics s;
+  for (const auto& t : topics_) s.topic_message_counts[t.name] += 0;
+  for (const auto& e : entries_) {
+    const auto t = static_cast<Timestamp>(e.log_time);
+    if (s.message_count == 0) {
+      s.start_time = s.end_time = t;
+    } else {
+      s.start_time = std::min(s.start_time, t);
+      s.end_time = std::max(s.end_time, t);
+    }
+    ++s.message_count;
+    ++s.topic_message_counts[topics_[static_cast<std::size_t>(channel_topic_[e.channel])].name];
+  }
+  return s;
+}
+
+std::uint64_t McapReader::unchunkedMessages() const {
+  return static_cast<std::uint64_t>(
+      std::count_if(entries_.begin(), entries_.end(), [](const Entry& e) { return e.chunk == kNoChunk; }));
+}
+
+}  // namespace mcvio::bag

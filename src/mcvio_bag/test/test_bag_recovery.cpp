@@ -1,0 +1,210 @@
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+
+#include "bag_test_util.hpp"
+#include "mcvio/bag/bag_reader.hpp"
+#include "mcvio/bag/bag_reindexer.hpp"
+#include "mcvio/bag/bag_writer.hpp"
+#include "mcvio/bag/mcap_reader.hpp"
+#include "mcvio/core/input_error.hpp"
+
+namespace mcvio::bag {
+namespace {
+
+constexpr Timestamp kT0 = 1700000000000000000;
+
+std::size_t messageSize(int i) { return 200 + static_cast<std::size_t>((i * 131) % 1500); }
+
+void writeMessage(BagWriter& w, int i) {
+  const auto data = test::payload(static_cast<std::uint64_t>(i), messageSize(i));
+  w.write(i % 2 ? "/a" : "/b", kT0 + i * 1000, kT0 + i * 1000, data.data(), data.size());
+}
+
+/// Every message read back is message i of the sequence, in order, and there are `n` of them.
+void expectPrefix(const std::vector<BagMessage>& got, std::size_t n) {
+  ASSERT_EQ(got.size(), n);
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    ASSERT_EQ(got[i].log_time, kT0 + static_cast<Timestamp>(i) * 1000) << i;
+    ASSERT_EQ(got[i].data, test::payload(i, messageSize(static_cast<int>(i)))) << i;
+  }
+}
+
+void truncateFile(const std::filesystem::path& p, std::uint64_t size) {
+  std::filesystem::resize_file(p, size);
+}
+
+/// Cuts a finished MCAP bag at many points; reindex must recover exactly the messages of the
+/// chunks that end before the cut.
+TEST(Recovery, TruncatedMcapKeepsEveryCompleteChunk) {
+  for (Compression c : {Compression::None, Compression::Zstd, Compression::Lz4}) {
+    const auto src = test::freshPath("trunc_src_" + toString(c));
+    BagWriterOptions o;
+    o.compression = c;
+    o.chunk_size = 4096;
+    {
+      BagWriter w(src, o);
+      w.addTopic(test::stringTopic("/a"));
+      w.addTopic(test::stringTopic("/b"));
+      for (int i = 0; i < 120; ++i) writeMessage(w, i);
+    }
+    const auto mcap_name = src.filename().string() + "_0.mcap";
+    McapReader intact(src / mcap_name);
+    const auto chunks = intact.chunks();
+    ASSERT_GT(chunks.size(), 8u);
+    // Cut points: inside a chunk, right after a chunk (indexes missing), inside its indexes,
+    // after its indexes, inside the summary.
+    std::vector<std::pair<std::uint64_t, std::size_t>> cuts;  // (size, messages expected)
+    std::size_t before = 0;
+    for (std::size_t k = 0; k < chunks.size(); k += 3) {
+      const auto& ch = chunks[k];
+      std::size_t in_chunk = 0;
+      for (const auto& [id, e] : ch.message_index) in_chunk += e.size();
+      const std::uint64_t end = ch.start_offset + ch.length;
+      cuts.emplace_back(ch.start_offset + ch.length / 2, before);
+      cuts.emplace_back(end - 1, before);
+      cuts.emplace_back(end, before + in_chunk);
+      cuts.emplace_back(end + 5, before + in_chunk);
+      cuts.emplace_back(end + ch.message_index_length, before + in_chunk);
+      for (std::size_t j = k; j < std::min(k + 3, chunks.size()); ++j) {
+        for (const auto& [id, e] : chunks[j].message_index) before += e.size();
+      }
+    }
+    cuts.emplace_back(intact.fileSize() - 10, 120);  // summary damaged, all chunks intact
+    for (const auto& [cut, expected] : cuts) {
+      const auto dir = test::freshPath("trunc_" + toString(c));
+      std::filesystem::create_directories(dir);
+      std::filesystem::copy_file(src / mcap_name, dir / mcap_name);
+      truncateFile(dir / mcap_name, cut);
+      // A strict read refuses the unfinished file with its name and an offset.
+      try {
+        McapReader strict(dir / mcap_name);
+        FAIL() << "strict read of a truncated file must fail (cut " << cut << ")";
+      } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find(mcap_name), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("byte offset"), std::string::npos) << e.what();
+      }
+      const BagMetadata md = BagReindexer::reindex(dir);
+      EXPECT_EQ(md.message_count, expected) << "cut " << cut;
+      McapReader repaired(dir / mcap_name);
+      EXPECT_TRUE(repaired.usedSummary());
+      SCOPED_TRACE("cut at " + std::to_string(cut) + " " + toString(c));
+      expectPrefix(test::readAll(dir), expected);
+    }
+  }
+}
+
+/// A writer that never closes (process gone after flushing) leaves data the reader refuses
+/// strictly, reads with allow_unfinished, and reindex restores fully.
+TEST(Recovery, UnclosedWritersInAChildProcess) {
+  for (const std::string storage : {"mcap", "sqlite3"}) {
+    const auto dir = test::freshPath("unclosed_" + storage);
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      BagWriterOptions o;
+      o.storage = storage;
+      o.chunk_size = 2048;
+      BagWriter w(dir, o);
+      w.addTopic(test::stringTopic("/a"));
+      w.addTopic(test::stringTopic("/b"));
+      for (int i = 0; i < 100; ++i) writeMessage(w, i);
+      w.flush();
+      writeMessage(w, 100);  // smaller than a chunk: buffered, never persisted
+      _exit(0);  // no close(), no destructors: like a kill after the flush
+    }
+    int status = 0;
+    waitpid(pid, &status, 0);
+    ASSERT_TRUE(WIFEXITED(status));
+    if (storage == "mcap") {
+      EXPECT_THROW(test::readAll(dir), InputError);
+      BagReaderOptions ro;
+      ro.allow_unfinished = true;
+      BagReader r(dir, ro);
+      std::size_t n = 0;
+      while (r.next()) ++n;
+      EXPECT_EQ(n, 100u);
+    }
+    const BagMetadata md = BagReindexer::reindex(dir);
+    EXPECT_EQ(md.message_count, 100u) << storage;
+    EXPECT_EQ(md.topics_with_message_count.size(), 2u);
+    expectPrefix(test::readAll(dir), 100);
+  }
+}
+
+/// A real recorder process killed with SIGKILL while writing: reindex recovers at least every
+/// message the child reported as flushed, each exactly as written, and nothing else.
+TEST(Recovery, Kill9WhileWriting) {
+  for (const std::string storage : {"mcap", "sqlite3"}) {
+    const auto dir = test::freshPath("kill9_" + storage);
+    int fds[2];
+    ASSERT_EQ(pipe(fds), 0);
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      close(fds[0]);
+      BagWriterOptions o;
+      o.storage = storage;
+      o.chunk_size = 4096;
+      BagWriter w(dir, o);
+      w.addTopic(test::stringTopic("/a"));
+      w.addTopic(test::stringTopic("/b"));
+      for (int i = 0;; ++i) {
+        if (i == 20000) {
+          for (;;) pause();  // bounded disk use if the parent is slow to kill
+        }
+        writeMessage(w, i);
+        if (i % 50 == 49) {
+          w.flush();
+          const int flushed = i + 1;
+          if (write(fds[1], &flushed, sizeof(flushed)) != sizeof(flushed)) _exit(3);
+        }
+      }
+    }
+    close(fds[1]);
+    int flushed = 0;
+    while (flushed < 400) {
+      ASSERT_EQ(read(fds[0], &flushed, sizeof(flushed)), static_cast<ssize_t>(sizeof(flushed)));
+    }
+    kill(pid, SIGKILL);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    close(fds[0]);
+    ASSERT_TRUE(WIFSIGNALED(status));
+    const BagMetadata md = BagReindexer::reindex(dir);
+    EXPECT_GE(md.message_count, static_cast<std::uint64_t>(flushed)) << storage;
+    const auto got = test::readAll(dir);
+    expectPrefix(got, got.size());
+    EXPECT_GE(got.size(), static_cast<std::size_t>(flushed));
+  }
+}
+
+TEST(Recovery, ReindexRebuildsALostMetadataFile) {
+  const auto dir = test::freshPath("lost_metadata");
+  BagWriterOptions o;
+  o.max_bagfile_size = 20000;
+  {
+    BagWriter w(dir, o);
+    w.addTopic(test::stringTopic("/a"));
+    w.addTopic(test::stringTopic("/b"));
+    for (int i = 0; i < 200; ++i) writeMessage(w, i);
+  }
+  const BagMetadata before = readBagMetadata(dir);
+  std::filesystem::remove(dir / "metadata.yaml");
+  EXPECT_THROW(BagReader r(dir), InputError);
+  std::vector<std::string> log;
+  const BagMetadata after = BagReindexer::reindex(dir, &log);
+  EXPECT_EQ(log.size(), before.relative_file_paths.size());
+  EXPECT_EQ(after.relative_file_paths, before.relative_file_paths);
+  EXPECT_EQ(after.message_count, 200u);
+  EXPECT_EQ(after.starting_time, before.starting_time);
+  EXPECT_EQ(after.duration, before.duration);
+  expectPrefix(test::readAll(dir), 200);
+}
+
+}  // namespace
+}  // namespace mcvio::bag

@@ -1,0 +1,220 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <tuple>
+
+#include "bag_test_util.hpp"
+#include "mcvio/bag/bag_info.hpp"
+#include "mcvio/bag/bag_reader.hpp"
+#include "mcvio/bag/bag_writer.hpp"
+#include "mcvio/bag/mcap_reader.hpp"
+#include "mcvio/core/input_error.hpp"
+
+namespace mcvio::bag {
+namespace {
+
+using test::payload;
+
+struct Written {
+  std::string topic;
+  Timestamp log;
+  Timestamp pub;
+  std::vector<std::uint8_t> data;
+};
+
+/// Writes `n` messages on three topics with sizes 0..~3 KB; log times mostly increasing with
+/// some out-of-order arrivals, as a recorder sees them.
+std::vector<Written> writeBag(const std::filesystem::path& dir, const BagWriterOptions& o, int n) {
+  BagWriter w(dir, o);
+  w.addTopic(test::stringTopic("/chatter"));
+  w.addTopic(test::poseStampedTopic("/pose"));
+  w.addTopic(test::stringTopic("/other"));
+  const char* names[] = {"/chatter", "/pose", "/other"};
+  std::vector<Written> out;
+  const Timestamp t0 = 1700000000000000000;
+  for (int i = 0; i < n; ++i) {
+    Written m;
+    m.topic = names[i % 3];
+    m.log = t0 + i * 1000000 - (i % 7 == 3 ? 2500000 : 0);
+    m.pub = m.log - 12345;
+    m.data = payload(static_cast<std::uint64_t>(i), static_cast<std::size_t>((i * 37) % 3000));
+    w.write(m.topic, m.log, m.pub, m.data.data(), m.data.size());
+    out.push_back(std::move(m));
+  }
+  w.close();
+  std::stable_sort(out.begin(), out.end(),
+                   [](const Written& a, const Written& b) { return a.log < b.log; });
+  return out;
+}
+
+class RoundTrip : public ::testing::TestWithParam<std::tuple<std::string, Compression>> {};
+
+TEST_P(RoundTrip, EveryMessageComesBackInTimeOrder) {
+  const auto [storage, compression] = GetParam();
+  BagWriterOptions o;
+  o.storage = storage;
+  o.compression = compression;
+  o.chunk_size = 8 * 1024;  // many chunks
+  const auto dir = test::freshPath("rt_" + storage + "_" + toString(compression));
+  const auto expected = writeBag(dir, o, 400);
+
+  BagReader r(dir);
+  EXPECT_EQ(r.metadata().message_count, 400u);
+  EXPECT_EQ(r.metadata().storage_identifier, storage);
+  ASSERT_EQ(r.topics().size(), 3u);
+  for (const auto& t : r.topics()) {
+    const auto ref = t.type == "std_msgs/msg/String" ? test::stringTopic(t.name)
+                                                     : test::poseStampedTopic(t.name);
+    EXPECT_EQ(t.message_definition, ref.message_definition) << t.name;
+    EXPECT_EQ(t.offered_qos_profiles, ref.offered_qos_profiles) << t.name;
+    EXPECT_EQ(t.type_description_hash, ref.type_description_hash) << t.name;
+  }
+  std::size_t i = 0;
+  BagMessage m;
+  while (r.next(m)) {
+    ASSERT_LT(i, expected.size());
+    EXPECT_EQ(m.topic, expected[i].topic) << i;
+    EXPECT_EQ(m.log_time, expected[i].log) << i;
+    // sqlite3 storage keeps no publish time.
+    EXPECT_EQ(m.publish_time, storage == "mcap" ? expected[i].pub : expected[i].log) << i;
+    EXPECT_EQ(m.data, expected[i].data) << i;
+    ++i;
+  }
+  EXPECT_EQ(i, expected.size());
+  const auto& md = r.metadata();
+  EXPECT_EQ(md.starting_time, expected.front().log);
+  EXPECT_EQ(md.duration, expected.back().log - expected.front().log);
+  ASSERT_EQ(md.topics_with_message_count.size(), 3u);
+  std::uint64_t sum = 0;
+  for (const auto& t : md.topics_with_message_count) sum += t.message_count;
+  EXPECT_EQ(sum, 400u);
+  if (storage == "mcap") {
+    McapReader mr(dir / md.relative_file_paths.at(0));
+    EXPECT_TRUE(mr.usedSummary());
+    EXPECT_GT(mr.chunks().size(), 10u);
+    for (const auto& c : mr.chunks()) EXPECT_EQ(c.compression, mcapCompressionName(compression));
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    StorageByCompression, RoundTrip,
+    ::testing::Combine(::testing::Values("mcap", "sqlite3"),
+                       ::testing::Values(Compression::None, Compression::Zstd, Compression::Lz4)),
+    [](const auto& info) {
+      return std::get<0>(info.param) + "_" + toString(std::get<1>(info.param));
+    });
+
+TEST(BagReader, TopicFilterSelectsOnlyThoseTopics) {
+  for (const std::string storage : {"mcap", "sqlite3"}) {
+    BagWriterOptions o;
+    o.storage = storage;
+    const auto dir = test::freshPath("filter_" + storage);
+    const auto all = writeBag(dir, o, 90);
+    BagReaderOptions ro;
+    ro.topics = {"/pose"};
+    BagReader r(dir, ro);
+    std::size_t n = 0;
+    BagMessage m;
+    while (r.next(m)) {
+      EXPECT_EQ(m.topic, "/pose");
+      ++n;
+    }
+    EXPECT_EQ(n, 30u) << storage;
+  }
+}
+
+TEST(BagWriter, SplitsBySizeAndReadsAcrossFiles) {
+  for (const std::string storage : {"mcap", "sqlite3"}) {
+    BagWriterOptions o;
+    o.storage = storage;
+    o.compression = Compression::None;
+    o.chunk_size = 16 * 1024;
+    o.max_bagfile_size = 100 * 1024;
+    const auto dir = test::freshPath("split_size_" + storage);
+    const auto expected = writeBag(dir, o, 600);
+    const BagMetadata md = readBagMetadata(dir);
+    EXPECT_GE(md.relative_file_paths.size(), 4u) << storage;
+    ASSERT_EQ(md.files.size(), md.relative_file_paths.size());
+    std::uint64_t sum = 0;
+    for (const auto& f : md.files) {
+      EXPECT_TRUE(std::filesystem::exists(dir / f.path)) << f.path;
+      EXPECT_GT(f.message_count, 0u);
+      sum += f.message_count;
+    }
+    EXPECT_EQ(sum, 600u);
+    const auto got = test::readAll(dir);
+    ASSERT_EQ(got.size(), expected.size());
+    for (std::size_t i = 0; i < got.size(); ++i) {
+      EXPECT_EQ(got[i].log_time, expected[i].log) << i;
+      EXPECT_EQ(got[i].data, expected[i].data) << i;
+    }
+  }
+}
+
+TEST(BagWriter, SplitsByDuration) {
+  BagWriterOptions o;
+  o.max_bagfile_duration = 100000000;  // 0.1 s of log time = ~100 messages
+  const auto dir = test::freshPath("split_duration");
+  writeBag(dir, o, 350);
+  const BagMetadata md = readBagMetadata(dir);
+  EXPECT_EQ(md.files.size(), 4u);
+  for (const auto& f : md.files) EXPECT_LE(f.duration, o.max_bagfile_duration + 3000000);
+  EXPECT_EQ(test::readAll(dir).size(), 350u);
+}
+
+TEST(BagReader, ReadsASingleMcapFile) {
+  BagWriterOptions o;
+  const auto dir = test::freshPath("single_file");
+  writeBag(dir, o, 30);
+  BagReader r(dir / "single_file_0.mcap");
+  std::size_t n = 0;
+  while (r.next()) ++n;
+  EXPECT_EQ(n, 30u);
+}
+
+TEST(BagInfo, FormatsLikeRos2BagInfo) {
+  BagWriterOptions o;
+  const auto dir = test::freshPath("info");
+  writeBag(dir, o, 30);
+  const std::string info = bagInfo(dir);
+  EXPECT_NE(info.find("Files:             info_0.mcap"), std::string::npos) << info;
+  EXPECT_NE(info.find("Storage id:        mcap"), std::string::npos) << info;
+  EXPECT_NE(info.find("Messages:          30"), std::string::npos) << info;
+  EXPECT_NE(info.find("Duration:          0.029000000s"), std::string::npos) << info;
+  EXPECT_NE(info.find("Topic: /pose | Type: geometry_msgs/msg/PoseStamped | Count: 10 | "
+                      "Serialization Format: cdr"),
+            std::string::npos)
+      << info;
+  EXPECT_NE(info.find("Start:             Nov 14 2023 22:13:20.000000000 UTC"), std::string::npos)
+      << info;
+}
+
+TEST(BagWriterOptions, LoadsFromYamlAndNamesBadKeys) {
+  const auto o = BagWriterOptions::fromYaml(
+      "storage: sqlite3\ncompression: lz4\nchunk_size: 4096\nmax_bagfile_duration: 2.5\n", "t.yaml");
+  EXPECT_EQ(o.storage, "sqlite3");
+  EXPECT_EQ(o.compression, Compression::Lz4);
+  EXPECT_EQ(o.chunk_size, 4096u);
+  EXPECT_EQ(o.max_bagfile_duration, 2500000000);
+  try {
+    BagWriterOptions::fromYaml("compresion: zstd\n", "t.yaml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("unknown key 'compresion'"), std::string::npos);
+  }
+  try {
+    BagWriterOptions::fromYaml("storage: rosbag1\n", "t.yaml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("storage"), std::string::npos) << e.what();
+  }
+  try {
+    BagWriterOptions::fromYaml("compression: brotli\n", "t.yaml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("key 'compression'"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace mcvio::bag
