@@ -27,7 +27,8 @@ EurocDatasetOptions EurocDatasetOptions::fromYaml(const YAML::Node& node) {
   if (!node) return options;
   if (!node.IsMap()) throw InputError("dataset options: expected a map of keys");
   for (const auto& item : node) {
-    const std::string key = item.first.as<std::string>();
+    const std::string key =
+        item.first.IsScalar() ? item.first.Scalar() : std::string("<not a scalar>");
     if (key != "skip_bad_rows" && key != "max_stereo_offset_ns" && key != "check_image_size") {
       throw InputError("dataset options: unknown key '" + key + "'");
     }
