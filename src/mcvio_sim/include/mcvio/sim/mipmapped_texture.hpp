@@ -1,0 +1,70 @@
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace mcvio::sim {
+
+/// Kinds of procedural pattern, all rich in corners at several scales.
+enum class TextureStyle : std::uint8_t {
+  kClutter = 0,  ///< overlapping rectangles, blobs and marks from metres down to millimetres
+  kTiles = 1,    ///< floor/ceiling tiles with grout, speckle and stains
+  kBricks = 2,   ///< brick courses with varied bricks and small marks
+  kPosters = 3,  ///< a plain wall with posters/panels carrying fine detail
+};
+
+/// A square, tileable (wrap-around), 8-bit grayscale texture with a full mip-map pyramid.
+/// Sampling is trilinear: bilinear inside the two levels bracketing the requested level of
+/// detail, so distant surfaces are pre-filtered instead of aliasing.
+class MipmappedTexture {
+ public:
+  /// Builds a procedural texture of size x size texels (a power of two >= 16), reproducible for
+  /// a seed.
+  static MipmappedTexture generate(TextureStyle style, int size, std::uint64_t seed);
+
+  /// Wraps an existing level-0 image (size x size, power of two) and builds its pyramid.
+  MipmappedTexture(int size, std::vector<std::uint8_t> level0);
+
+  /// Intensity [0, 255] at texel coordinates (u, v) of level 0 (texel centres at +0.5), with
+  /// lod = log2(texels per pixel); lod <= 0 samples level 0.
+  float sample(float u, float v, float lod) const {
+    const int last = static_cast<int>(levels_.size()) - 1;
+    if (lod <= 0.0f) return bilinear(0, u, v);
+    if (lod >= static_cast<float>(last)) return levels_.back()[0];
+    const int l0 = static_cast<int>(lod);
+    const float f = lod - static_cast<float>(l0);
+    const float s0 = 1.0f / static_cast<float>(1 << l0);
+    const float a = bilinear(l0, u * s0, v * s0);
+    if (f < 1e-3f) return a;
+    const float b = bilinear(l0 + 1, u * s0 * 0.5f, v * s0 * 0.5f);
+    return a + f * (b - a);
+  }
+
+  int size() const { return size_; }
+  int levels() const { return static_cast<int>(levels_.size()); }
+  const std::vector<std::uint8_t>& level(int l) const { return levels_[static_cast<size_t>(l)]; }
+
+ private:
+  float bilinear(int level, float x, float y) const {
+    const int n = size_ >> level;
+    const int mask = n - 1;
+    const std::uint8_t* img = levels_[static_cast<size_t>(level)].data();
+    // Shift by a multiple of the size so the integer part is non-negative before truncation;
+    // the mask wraps it back into the texture.
+    const float fx = x - 0.5f + kWrapBias, fy = y - 0.5f + kWrapBias;
+    const int ix = static_cast<int>(fx), iy = static_cast<int>(fy);
+    const float ax = fx - static_cast<float>(ix), ay = fy - static_cast<float>(iy);
+    const int x0 = ix & mask, y0 = iy & mask;
+    const int x1 = (x0 + 1) & mask, y1 = (y0 + 1) & mask;
+    const float a = img[y0 * n + x0], b = img[y0 * n + x1];
+    const float c = img[y1 * n + x0], d = img[y1 * n + x1];
+    const float top = a + ax * (b - a), bottom = c + ax * (d - c);
+    return top + ay * (bottom - top);
+  }
+  /// A power of two larger than any texture: keeps coordinates of far-away texels positive.
+  static constexpr float kWrapBias = 65536.0f;
+  int size_ = 0;
+  std::vector<std::vector<std::uint8_t>> levels_;
+};
+
+}  // namespace mcvio::sim
