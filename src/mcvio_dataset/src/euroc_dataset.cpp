@@ -9,52 +9,23 @@
 #include <opencv2/imgcodecs.hpp>
 #include <unordered_set>
 
+#include "folder_layout.hpp"
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/dataset/csv_reader.hpp"
+#include "mcvio/dataset/euroc_file_reader.hpp"
 #include "mcvio/dataset/sensor_yaml.hpp"
+#include "row_parsing.hpp"
 
 namespace mcvio::dataset {
 
 namespace fs = std::filesystem;
+using detail::forEachRow;
+using detail::IncreasingTime;
+using detail::requireDir;
+using detail::requireFile;
+using detail::resolveMav0;
 
 namespace {
-
-// Runs parse_row on every data row; with skip_bad_rows an InputError only skips its row.
-template <typename ParseRow>
-void forEachRow(CsvReader& csv, const EurocDatasetOptions& options,
-                std::vector<std::string>* warnings, ParseRow parse_row) {
-  while (csv.nextRow()) {
-    try {
-      parse_row(csv);
-    } catch (const InputError& e) {
-      if (!options.skip_bad_rows) throw;
-      warnings->push_back(std::string(e.what()) + " (row skipped)");
-    }
-  }
-}
-
-// Time must increase strictly; a row failing this is not accepted, so `last` stays valid.
-void checkIncreasing(const CsvReader& csv, Timestamp t, Timestamp* last, bool* have_last) {
-  if (*have_last && t <= *last) {
-    csv.fail(t == *last ? "duplicate timestamp " + std::to_string(t)
-                        : "timestamp " + std::to_string(t) +
-                              " is earlier than the previous row's " + std::to_string(*last));
-  }
-  *last = t;
-  *have_last = true;
-}
-
-std::string requireDir(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::is_directory(path, ec)) throw InputError(path.string() + ": missing folder");
-  return path.string();
-}
-
-std::string requireFile(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw InputError(path.string() + ": missing file");
-  return path.string();
-}
 
 // Reads width and height from a PNG's IHDR chunk; false if the file is not a readable PNG.
 bool readPngSize(const std::string& path, int* width, int* height) {
@@ -100,14 +71,13 @@ std::vector<CameraRow> readCameraRows(const fs::path& cam_dir, const EurocDatase
 
   CsvReader csv((cam_dir / "data.csv").string());
   std::vector<CameraRow> rows;
-  Timestamp last = 0;
-  bool have_last = false;
-  forEachRow(csv, options, warnings, [&](CsvReader& row) {
+  IncreasingTime time;
+  forEachRow(csv, options.skip_bad_rows, warnings, [&](CsvReader& row) {
     row.expectFieldCount(2, "camera");
     const Timestamp t = row.int64At(0, "timestamp");
     const std::string name(row.field(1));
     if (name.empty()) row.fail("column 'filename' is empty");
-    checkIncreasing(row, t, &last, &have_last);
+    time.check(row, t);
     const bool exists = name.find('/') == std::string::npos
                             ? files.count(name) > 0
                             : fs::is_regular_file(data_dir / name, ec);
@@ -128,30 +98,11 @@ EurocDataset EurocDataset::open(const std::string& dir, const EurocDatasetOption
     throw InputError("dataset options: max_stereo_offset_ns must not be negative");
   }
   std::error_code ec;
-  const fs::path base(dir);
-  if (!fs::is_directory(base, ec)) throw InputError(dir + ": EuRoC folder does not exist");
-  fs::path root = base / "mav0";
-  if (!fs::is_directory(root, ec)) {
-    if (!fs::is_directory(base / "cam0", ec) && !fs::is_directory(base / "imu0", ec)) {
-      throw InputError(dir + ": not a EuRoC folder (no mav0 folder, and no cam0/imu0 in it)");
-    }
-    root = base;
-  }
-
   EurocDataset data;
-  data.root_ = fs::absolute(root, ec).lexically_normal().string();
-  if (ec) data.root_ = root.string();
-  const fs::path mav0(data.root_);
-
-  // Calibration.
-  StereoRigCalibration& calib = data.calibration_;
-  for (int i = 0; i < 2; ++i) {
-    const std::string name = "cam" + std::to_string(i);
-    requireDir(mav0 / name);
-    calib.camera(i) = SensorYaml::readCamera(requireFile(mav0 / name / "sensor.yaml"), name);
-  }
-  requireDir(mav0 / "imu0");
-  calib.imu = SensorYaml::readImu(requireFile(mav0 / "imu0" / "sensor.yaml"), "imu0");
+  const fs::path mav0 = resolveMav0(dir);
+  data.root_ = mav0.string();
+  data.calibration_ = EurocFileReader::readCalibration(data.root_);
+  const StereoRigCalibration& calib = data.calibration_;
 
   // Stereo frames.
   const std::vector<CameraRow> cam0 = readCameraRows(mav0 / "cam0", options, &data.warnings_);
@@ -192,83 +143,22 @@ EurocDataset EurocDataset::open(const std::string& dir, const EurocDatasetOption
     }
   }
 
-  // IMU.
-  {
-    CsvReader csv(requireFile(mav0 / "imu0" / "data.csv"));
-    Timestamp last = 0;
-    bool have_last = false;
-    data.imu_.reserve(32768);
-    forEachRow(csv, options, &data.warnings_, [&](CsvReader& row) {
-      row.expectFieldCount(7, "IMU");
-      ImuSample s;
-      s.t = row.int64At(0, "timestamp");
-      s.gyro = {row.doubleAt(1, "w_RS_S_x"), row.doubleAt(2, "w_RS_S_y"),
-                row.doubleAt(3, "w_RS_S_z")};
-      s.accel = {row.doubleAt(4, "a_RS_S_x"), row.doubleAt(5, "a_RS_S_y"),
-                 row.doubleAt(6, "a_RS_S_z")};
-      checkIncreasing(row, s.t, &last, &have_last);
-      data.imu_.push_back(s);
-    });
-    if (data.imu_.empty()) throw InputError(csv.path() + ": contains no IMU samples");
-  }
-
-  // Ground truth (optional).
+  // IMU, ground truth (optional), conflict labels (optional).
+  data.imu_ = EurocFileReader::readImu(requireFile(mav0 / "imu0" / "data.csv"),
+                                       options.skip_bad_rows, &data.warnings_);
   const fs::path gt_dir = mav0 / "state_groundtruth_estimate0";
   if (fs::is_directory(gt_dir, ec)) {
     if (!fs::is_regular_file(gt_dir / "data.csv", ec)) {
       data.warnings_.push_back((gt_dir / "data.csv").string() + ": missing file; no ground truth");
     } else {
-      CsvReader csv((gt_dir / "data.csv").string());
-      Timestamp last = 0;
-      bool have_last = false;
-      forEachRow(csv, options, &data.warnings_, [&](CsvReader& row) {
-        row.expectFieldCount(17, "ground-truth");
-        GroundTruthState s;
-        s.t = row.int64At(0, "timestamp");
-        s.p_WB = {row.doubleAt(1, "p_x"), row.doubleAt(2, "p_y"), row.doubleAt(3, "p_z")};
-        s.q_WB = Eigen::Quaterniond(row.doubleAt(4, "q_w"), row.doubleAt(5, "q_x"),
-                                    row.doubleAt(6, "q_y"), row.doubleAt(7, "q_z"));
-        const double norm = s.q_WB.norm();
-        if (std::abs(norm - 1.0) > 1e-3) {
-          row.fail("quaternion (q_w, q_x, q_y, q_z) has norm " + std::to_string(norm) +
-                   ", expected 1");
-        }
-        // Leave unit quaternions bit-exact so write-then-read is lossless.
-        if (std::abs(norm - 1.0) > 1e-12) s.q_WB.normalize();
-        s.v_WB = {row.doubleAt(8, "v_x"), row.doubleAt(9, "v_y"), row.doubleAt(10, "v_z")};
-        s.bias_gyro = {row.doubleAt(11, "bw_x"), row.doubleAt(12, "bw_y"),
-                       row.doubleAt(13, "bw_z")};
-        s.bias_accel = {row.doubleAt(14, "ba_x"), row.doubleAt(15, "ba_y"),
-                        row.doubleAt(16, "ba_z")};
-        checkIncreasing(row, s.t, &last, &have_last);
-        data.ground_truth_.push_back(s);
-      });
+      data.ground_truth_ = EurocFileReader::readGroundTruth((gt_dir / "data.csv").string(),
+                                                            options.skip_bad_rows, &data.warnings_);
     }
   }
-
-  // Conflict labels (optional).
   const fs::path labels_path = mav0 / "conflict_labels.csv";
   if (fs::exists(labels_path, ec)) {
-    CsvReader csv(labels_path.string());
-    Timestamp last = 0;
-    bool have_last = false;
-    forEachRow(csv, options, &data.warnings_, [&](CsvReader& row) {
-      row.expectFieldCount(4, "conflict label");
-      ConflictLabel label;
-      label.t = row.int64At(0, "timestamp");
-      const std::int64_t flag = row.int64At(1, "in_conflict");
-      if (flag != 0 && flag != 1)
-        row.fail("column 'in_conflict' must be 0 or 1, got " + std::to_string(flag));
-      label.in_conflict = flag == 1;
-      label.motion = std::string(row.field(2));
-      if (label.motion.empty()) row.fail("column 'motion' is empty");
-      label.covered_fraction = row.doubleAt(3, "covered_fraction");
-      if (label.covered_fraction < 0.0 || label.covered_fraction > 1.0) {
-        row.fail("column 'covered_fraction' must be in [0, 1], got " + std::string(row.field(3)));
-      }
-      checkIncreasing(row, label.t, &last, &have_last);
-      data.labels_.push_back(std::move(label));
-    });
+    data.labels_ =
+        EurocFileReader::readLabels(labels_path.string(), options.skip_bad_rows, &data.warnings_);
   }
   return data;
 }

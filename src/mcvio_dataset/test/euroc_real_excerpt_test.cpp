@@ -5,6 +5,7 @@
 #include <opencv2/core.hpp>
 
 #include "mcvio/dataset/euroc_dataset.hpp"
+#include "mcvio/dataset/euroc_file_reader.hpp"
 #include "mcvio/dataset/euroc_writer.hpp"
 #include "test_sequence.hpp"
 
@@ -87,6 +88,19 @@ TEST(EurocRealExcerpt, LoadsWithItsQuirksReported) {
   EXPECT_EQ(left.cols, 752);
   EXPECT_EQ(right.rows, 480);
   EXPECT_GT(cv::mean(left)[0], 10.0);  // a real picture, not a blank
+}
+
+TEST(EurocRealExcerpt, SingleFilesReadAlone) {
+  const std::string dir = excerptDir();
+  if (dir.empty()) GTEST_SKIP() << "MCVIO_SHARED_DIR/data/euroc_V1_01_excerpt not present";
+  const auto gt =
+      EurocFileReader::readGroundTruth(dir + "/mav0/state_groundtruth_estimate0/data.csv");
+  ASSERT_EQ(gt.size(), 2895u);
+  EXPECT_EQ(gt.back().t, 1403715417962142976);
+  EXPECT_EQ(EurocFileReader::readImu(dir + "/mav0/imu0/data.csv").size(), 29120u);
+  const StereoRigCalibration rig = EurocFileReader::readCalibration(dir);
+  EXPECT_EQ(rig.cam1.model.fu(), 457.587);
+  EXPECT_EQ(rig.cam1.name, "cam1");
 }
 
 TEST(EurocRealExcerpt, RewrittenExcerptReadsBackTheSame) {
