@@ -31,6 +31,11 @@ CsvReader::CsvReader(std::string path) : path_(std::move(path)) {
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path_.c_str(), "rb"),
                                                        &std::fclose);
   if (!file) throw InputError(path_ + ": cannot open file (missing or unreadable)");
+  if (std::fseek(file.get(), 0, SEEK_END) == 0) {
+    const long size = std::ftell(file.get());
+    if (size > 0) content_.reserve(static_cast<std::size_t>(size));
+    std::rewind(file.get());
+  }
   char buffer[1 << 16];
   std::size_t n;
   while ((n = std::fread(buffer, 1, sizeof(buffer), file.get())) > 0) content_.append(buffer, n);
