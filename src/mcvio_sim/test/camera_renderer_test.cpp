@@ -1,0 +1,159 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "mcvio/sim/camera_renderer.hpp"
+#include "mcvio/sim/euroc_rig_defaults.hpp"
+
+namespace mcvio::sim {
+namespace {
+
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+MipmappedTexture uniformTexture(std::uint8_t value) {
+  return MipmappedTexture(16, std::vector<std::uint8_t>(256, value));
+}
+
+/// A bright disc on a dark square: its intensity centroid is the projection of its centre.
+MipmappedTexture discTexture() {
+  const int n = 128;
+  std::vector<std::uint8_t> px(n * n, 20);
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x)
+      if (std::hypot(x + 0.5 - n / 2.0, y + 0.5 - n / 2.0) < 40.0) px[y * n + x] = 220;
+  return MipmappedTexture(n, px);
+}
+
+/// A quad of half size `half` centred at `centre_w`, facing the camera with rotation R_WC.
+TexturedQuad facingQuad(const Vector3d& centre_w, const Eigen::Matrix3d& R_WC, double half, int texture,
+                        double texel) {
+  TexturedQuad q;
+  q.axis_u = R_WC.col(0);
+  q.axis_v = R_WC.col(1);
+  q.origin = centre_w - half * q.axis_u - half * q.axis_v;
+  q.size_u = q.size_v = 2 * half;
+  q.texture = texture;
+  q.texel_size = texel;
+  q.brightness = 1.0f;
+  return q;
+}
+
+Vector2d intensityCentroid(const cv::Mat& img, int threshold) {
+  double sw = 0, su = 0, sv = 0;
+  for (int v = 0; v < img.rows; ++v)
+    for (int u = 0; u < img.cols; ++u) {
+      const int w = img.at<std::uint8_t>(v, u) - threshold;
+      if (w <= 0) continue;
+      sw += w;
+      su += w * u;
+      sv += w * v;
+    }
+  return sw > 0 ? Vector2d(su / sw, sv / sw) : Vector2d(-1, -1);
+}
+
+TEST(CameraRenderer, MarkersAppearWhereTheCalibrationProjectsThemInBothCameras) {
+  const StereoRigCalibration rig = eurocRigDefaults();
+  CameraRenderer r0(rig.cam0, 2), r1(rig.cam1, 2);
+  const Eigen::Isometry3d T_WB = Eigen::Isometry3d::Identity();
+  const Eigen::Matrix3d R_WC0 = rig.cam0.T_BC.linear();
+  RenderSettings settings;
+  settings.vignetting = false;
+
+  // Marker positions in cam0 coordinates: centre, towards the corners (strong distortion), near.
+  const Vector3d markers[] = {{0.0, 0.0, 2.0}, {1.1, 0.6, 2.5}, {-1.2, -0.65, 2.4},
+                              {0.9, -0.55, 2.0}, {-0.25, 0.2, 0.8}};
+  for (const Vector3d& p_c0 : markers) {
+    Scene scene;
+    const int dark = scene.addTexture(uniformTexture(20));
+    const int disc = scene.addTexture(discTexture());
+    SceneBody world;
+    world.quads.push_back(facingQuad(rig.cam0.T_BC * Vector3d(0, 0, 20), R_WC0, 40.0, dark, 0.05));
+    scene.addBody(world);
+    SceneBody marker;
+    const double half = 0.06 * p_c0.z() / 2.0;
+    marker.quads.push_back(facingQuad(rig.cam0.T_BC * p_c0, R_WC0, half, disc, 2 * half / 128));
+    scene.addBody(marker);
+
+    RenderResult out0, out1;
+    r0.render(scene, 0, T_WB, settings, &out0);
+    r1.render(scene, 0, T_WB, settings, &out1);
+    Vector2d expect0, expect1;
+    ASSERT_TRUE(rig.cam0.model.project(p_c0, &expect0));
+    const Vector3d p_c1 = rig.cam1.T_BC.inverse() * (rig.cam0.T_BC * p_c0);
+    ASSERT_TRUE(rig.cam1.model.project(p_c1, &expect1));
+    const Vector2d got0 = intensityCentroid(out0.image, 25);
+    const Vector2d got1 = intensityCentroid(out1.image, 25);
+    EXPECT_LT((got0 - expect0).norm(), 0.15) << "cam0 marker at " << p_c0.transpose();
+    EXPECT_LT((got1 - expect1).norm(), 0.15) << "cam1 marker at " << p_c0.transpose();
+    // Disparity of a point straight ahead is about f * baseline / z.
+    const double disparity = got0.x() - got1.x();
+    EXPECT_NEAR(disparity, expect0.x() - expect1.x(), 0.2);
+    EXPECT_GT(out0.body_pixels[1], 0);
+  }
+}
+
+TEST(CameraRenderer, DepthBufferPointsReprojectOntoTheirPixels) {
+  const StereoRigCalibration rig = eurocRigDefaults();
+  for (int cam = 0; cam < 2; ++cam) {
+    const CameraCalibration& c = rig.camera(cam);
+    CameraRenderer renderer(c, 2);
+    Scene scene;
+    const int tex = scene.addTexture(MipmappedTexture::generate(TextureStyle::kClutter, 64, 1));
+    SceneBody world;
+    // A slanted wall 3 m in front of the camera.
+    TexturedQuad q;
+    const Vector3d u_c = Vector3d(1, 0, 0.4).normalized(), v_c(0, 1, 0);
+    q.axis_u = c.T_BC.linear() * u_c;
+    q.axis_v = c.T_BC.linear() * v_c;
+    q.origin = c.T_BC * (Vector3d(0, 0, 3.0) - 10 * u_c - 10 * v_c);
+    q.size_u = q.size_v = 20;
+    q.texture = tex;
+    world.quads.push_back(q);
+    scene.addBody(world);
+    RenderSettings settings;
+    settings.want_depth = true;
+    RenderResult out;
+    renderer.render(scene, 0, Eigen::Isometry3d::Identity(), settings, &out);
+    const Vector3d n_c = c.T_BC.linear().transpose() * q.normal();
+    const Vector3d o_c = c.T_BC.inverse() * q.origin;
+    double worst_px = 0, worst_plane = 0;
+    for (int v = 3; v < out.depth.rows; v += 37)
+      for (int u = 5; u < out.depth.cols; u += 41) {
+        const float z = out.depth.at<float>(v, u);
+        ASSERT_GT(z, 0.0f);
+        Vector2d xy;
+        ASSERT_TRUE(c.model.unproject(Vector2d(u, v), &xy));
+        const Vector3d p(xy.x() * z, xy.y() * z, z);
+        worst_plane = std::max(worst_plane, std::abs(n_c.dot(p - o_c)));
+        Vector2d px;
+        ASSERT_TRUE(c.model.project(p, &px));
+        worst_px = std::max(worst_px, (px - Vector2d(u, v)).norm());
+      }
+    EXPECT_LT(worst_plane, 1e-4) << "camera " << cam;
+    EXPECT_LT(worst_px, 1e-2) << "camera " << cam;
+  }
+}
+
+TEST(MipmappedTexture, FarSurfacesSampleCoarseLevelsWithoutAliasing) {
+  const MipmappedTexture tex = MipmappedTexture::generate(TextureStyle::kTiles, 256, 2);
+  ASSERT_EQ(tex.levels(), 9);
+  // At a footprint of 64 texels per pixel the sample is the local average, close to the mean.
+  double mean = 0;
+  for (auto v : tex.level(0)) mean += v;
+  mean /= tex.level(0).size();
+  double spread = 0;
+  for (int k = 0; k < 50; ++k) spread = std::max(spread, std::abs(tex.sample(k * 37.3f, k * 11.9f, 8.0f) - mean));
+  EXPECT_LT(spread, 1.0);
+  // Level 0 keeps the detail: samples vary strongly.
+  float lo = 255, hi = 0;
+  for (int k = 0; k < 200; ++k) {
+    const float s = tex.sample(k * 7.3f, k * 3.1f, 0.0f);
+    lo = std::min(lo, s);
+    hi = std::max(hi, s);
+  }
+  EXPECT_GT(hi - lo, 60.0f);
+}
+
+}  // namespace
+}  // namespace mcvio::sim
