@@ -101,12 +101,27 @@ void Codec::decompress(Compression c, const std::uint8_t* data, std::size_t size
     out.assign(data, data + size);
     return;
   }
+  // The sizes come from the file: check them against the frame before allocating, so a forged
+  // size cannot make us allocate gigabytes (found by fuzzing).
   if (c == Compression::Zstd) {
+    const unsigned long long known = ZSTD_getFrameContentSize(data, size);
+    if (known == ZSTD_CONTENTSIZE_ERROR) throw std::runtime_error("zstd: not a zstd frame");
+    if (known != ZSTD_CONTENTSIZE_UNKNOWN && known != expected_size) {
+      throw std::runtime_error("zstd: frame content size differs from record");
+    }
+    // A zstd block of 128 KiB compresses to no less than 4 bytes.
+    if (expected_size / 32768 > size + 1) {
+      throw std::runtime_error("zstd: uncompressed size implausible for the compressed size");
+    }
     out.resize(expected_size);
     const std::size_t n = ZSTD_decompress(out.data(), expected_size, data, size);
     if (ZSTD_isError(n)) throw std::runtime_error(std::string("zstd: ") + ZSTD_getErrorName(n));
     if (n != expected_size) throw std::runtime_error("zstd: decompressed size differs from record");
     return;
+  }
+  // LZ4 cannot compress better than about 255:1.
+  if (expected_size / 255 > size + 64) {
+    throw std::runtime_error("lz4: uncompressed size implausible for the compressed size");
   }
   out.clear();
   out.resize(expected_size == 0 ? 1 : expected_size);

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
+#include <cstring>
 #include <fstream>
 
 #include "bag_test_util.hpp"
@@ -193,6 +194,44 @@ TEST(BadInput, ReindexWithoutStorageFiles) {
   const auto dir = test::freshPath("bad_empty_dir");
   std::filesystem::create_directories(dir);
   expectInputError([&] { BagReindexer::reindex(dir); }, {"bad_empty_dir", "no .mcap or .db3"});
+}
+
+}  // namespace
+}  // namespace mcvio::bag
+
+namespace mcvio::bag {
+namespace {
+
+// Regression for a fuzzer finding: a Chunk claiming a huge uncompressed size made the reader
+// allocate it before looking at the data.
+TEST(BadInput, ForgedChunkSizeIsRejectedBeforeAllocating) {
+  for (Compression c : {Compression::Zstd, Compression::Lz4}) {
+    const auto dir = test::freshPath("bad_forged_" + toString(c));
+    {
+      BagWriterOptions o;
+      o.compression = c;
+      BagWriter w(dir, o);
+      w.addTopic(test::stringTopic("/a"));
+      const auto d = test::payload(1, 500);
+      w.write("/a", 1, 1, d.data(), d.size());
+    }
+    const auto f = dir / (dir.filename().string() + "_0.mcap");
+    const auto chunk = McapReader(f).chunks().at(0);
+    std::ifstream in(f, std::ios::binary);
+    std::vector<char> b{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    const std::uint64_t huge = 3ull << 30;
+    std::memcpy(b.data() + chunk.start_offset + 9 + 16, &huge, 8);  // uncompressed_size
+    std::memset(b.data() + b.size() - 37 + 9, 0, 8);  // footer: no summary -> linear scan
+    std::ofstream(f, std::ios::binary | std::ios::trunc).write(b.data(), static_cast<std::streamsize>(b.size()));
+    try {
+      McapReader r(f);
+      ADD_FAILURE() << "forged chunk accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("does not decompress"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("byte offset " + std::to_string(chunk.start_offset)),
+                std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace
