@@ -32,7 +32,6 @@ const RECV_BUFFER_BYTES = 8 * 1024 * 1024;
 
 const RELIABILITY_NAMES = { 1: "best_effort", 2: "reliable" };
 const DURABILITY_NAMES = { 0: "volatile", 1: "transient_local", 2: "transient", 3: "persistent" };
-const HISTORY_NAMES = { 0: "keep_last", 1: "keep_all" };
 
 function usage(message) {
   if (message) {
@@ -135,14 +134,12 @@ function isBuiltinEntity(entityId) {
   return (entityId & 0xc0) === 0xc0;
 }
 
+// Reliability and durability are what discovery announces and what matching checks; Fast DDS
+// does not announce its history kind or depth.
 function qosString(endpoint) {
-  const history =
-    endpoint.history.kind === rtps.HistoryKind.KeepLast
-      ? `keep_last(${endpoint.history.depth})`
-      : HISTORY_NAMES[endpoint.history.kind] ?? String(endpoint.history.kind);
   return (
     `${RELIABILITY_NAMES[endpoint.reliability.kind] ?? endpoint.reliability.kind}, ` +
-    `${DURABILITY_NAMES[endpoint.durability] ?? endpoint.durability}, ${history}`
+    `${DURABILITY_NAMES[endpoint.durability] ?? endpoint.durability}`
   );
 }
 
