@@ -75,6 +75,7 @@ void BM_BagWriterMcap(benchmark::State& state) {
   const auto compression = static_cast<mcvio::bag::Compression>(state.range(0));
   const auto data = payloads(static_cast<int>(state.range(1)));
   const bool sync = state.range(2) != 0;
+  const bool crc = state.range(3) != 0;
   const auto dir = benchDir();
   mcvio::bag::TopicInfo topic;
   topic.name = "/cam0/image_raw";
@@ -87,6 +88,7 @@ void BM_BagWriterMcap(benchmark::State& state) {
       mcvio::bag::BagWriterOptions o;
       o.compression = compression;
       o.fsync = false;
+      o.crc = crc;
       mcvio::bag::BagWriter w(bag, o);
       const auto t = w.addTopic(topic);
       for (int i = 0; i < kMessages; ++i) {
@@ -115,7 +117,8 @@ void BM_BagWriterMcap(benchmark::State& state) {
 
 // Args: payload kind (0 random, 1 image-like), fsync at end.
 BENCHMARK(BM_PlainSequentialWrite)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
-// Args: compression (0 none, 1 zstd, 2 lz4), payload kind, fsync at end.
-BENCHMARK(BM_BagWriterMcap)->ArgsProduct({{0, 1, 2}, {0, 1}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
+// Args: compression (0 none, 1 zstd, 2 lz4), payload kind, fsync at end, CRCs on.
+BENCHMARK(BM_BagWriterMcap)->ArgsProduct({{0, 1, 2}, {0, 1}, {0, 1}, {1}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_BagWriterMcap)->ArgsProduct({{0}, {0}, {0, 1}, {0}})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_MAIN();

@@ -49,6 +49,7 @@ void BagWriter::openFile() {
     o.compression_level = options_.compression_level;
     o.chunk_size = options_.chunk_size;
     o.fsync_each_chunk = options_.fsync;
+    o.compute_crcs = options_.crc;
     file_ = std::make_unique<McapWriter>(dir_ / name, o);
   } else {
     SqliteWriterOptions o;

@@ -39,7 +39,7 @@ BagWriterOptions BagWriterOptions::fromYaml(const std::string& yaml, const std::
   if (!root.IsMap()) throw InputError(source + ": bag writer options must be a YAML map");
   static const std::set<std::string> known = {
       "storage", "compression", "compression_level", "chunk_size", "max_bagfile_size",
-      "max_bagfile_duration", "fsync", "ros_distro", "custom_data"};
+      "max_bagfile_duration", "fsync", "crc", "ros_distro", "custom_data"};
   for (const auto& kv : root) {
     const auto key = kv.first.as<std::string>();
     if (known.count(key) == 0) throw InputError(source + ": unknown key '" + key + "'");
@@ -60,6 +60,8 @@ BagWriterOptions BagWriterOptions::fromYaml(const std::string& yaml, const std::
     if (root[key]) o.max_bagfile_duration = fromSeconds(root[key].as<double>());
     key = "fsync";
     if (root[key]) o.fsync = root[key].as<bool>();
+    key = "crc";
+    if (root[key]) o.crc = root[key].as<bool>();
     key = "ros_distro";
     if (root[key]) o.ros_distro = root[key].as<std::string>();
     key = "custom_data";

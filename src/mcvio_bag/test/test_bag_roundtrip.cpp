@@ -162,6 +162,19 @@ TEST(BagWriter, SplitsByDuration) {
   EXPECT_EQ(test::readAll(dir).size(), 350u);
 }
 
+TEST(BagWriter, McapWithoutCrcsReadsBack) {
+  BagWriterOptions o;
+  o.crc = false;
+  o.compression = Compression::None;
+  const auto dir = test::freshPath("no_crc");
+  const auto expected = writeBag(dir, o, 60);
+  const auto got = test::readAll(dir);
+  ASSERT_EQ(got.size(), expected.size());
+  for (std::size_t i = 0; i < got.size(); ++i) EXPECT_EQ(got[i].data, expected[i].data) << i;
+  McapReader r(dir / "no_crc_0.mcap");
+  for (const auto& c : r.chunks()) EXPECT_EQ(c.uncompressed_crc, 0u);
+}
+
 TEST(BagReader, ReadsASingleMcapFile) {
   BagWriterOptions o;
   const auto dir = test::freshPath("single_file");
@@ -191,7 +204,9 @@ TEST(BagInfo, FormatsLikeRos2BagInfo) {
 
 TEST(BagWriterOptions, LoadsFromYamlAndNamesBadKeys) {
   const auto o = BagWriterOptions::fromYaml(
-      "storage: sqlite3\ncompression: lz4\nchunk_size: 4096\nmax_bagfile_duration: 2.5\n", "t.yaml");
+      "storage: sqlite3\ncompression: lz4\nchunk_size: 4096\nmax_bagfile_duration: 2.5\ncrc: false\n",
+      "t.yaml");
+  EXPECT_FALSE(o.crc);
   EXPECT_EQ(o.storage, "sqlite3");
   EXPECT_EQ(o.compression, Compression::Lz4);
   EXPECT_EQ(o.chunk_size, 4096u);

@@ -28,6 +28,9 @@ struct BagWriterOptions {
   /// `fsync`: fsync each chunk/transaction, so data also survives power loss (default false:
   /// data survives a killed process, which only needs the kernel to have it).
   bool fsync = false;
+  /// `crc`: MCAP chunk, data and summary CRC-32s (default true). zlib's CRC runs at about
+  /// 1 GB/s, the largest cost of uncompressed recording; false writes 0 ("not computed").
+  bool crc = true;
   /// `ros_distro`: written to metadata.yaml and the sqlite3 schema table (default empty).
   std::string ros_distro;
   /// `custom_data`: string map copied to metadata.yaml.
