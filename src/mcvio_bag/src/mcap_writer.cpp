@@ -83,7 +83,11 @@ void McapWriter::write(std::size_t topic_index, Timestamp log_time, Timestamp pu
   w.u32(sequence);
   w.u64(log);
   w.u64(pub);
-  w.raw(data, size);
+  // A big uncompressed message that fills a chunk on its own goes from the caller's buffer
+  // to the file without being copied into the chunk.
+  const bool direct = options_.compression == Compression::None && offset == 0 &&
+                      chunk_.size() + size >= options_.chunk_size;
+  if (!direct) w.raw(data, size);
   chunk_index_[channel_id].emplace_back(log, offset);
   if (offset == 0) {
     chunk_start_time_ = chunk_end_time_ = log;
@@ -99,7 +103,11 @@ void McapWriter::write(std::size_t topic_index, Timestamp log_time, Timestamp pu
   }
   ++message_count_;
   ++channel_counts_[channel_id];
-  if (chunk_.size() >= options_.chunk_size) flushChunk();
+  if (direct) {
+    flushChunk(data, size);
+  } else if (chunk_.size() >= options_.chunk_size) {
+    flushChunk();
+  }
 }
 
 void McapWriter::flush() {
@@ -111,10 +119,13 @@ std::uint64_t McapWriter::sizeBytes() const {
   return out_->position() + chunk_.size();
 }
 
-void McapWriter::flushChunk() {
+void McapWriter::flushChunk(const std::uint8_t* tail, std::size_t tail_size) {
   if (chunk_.empty()) return;
-  const std::uint32_t crc = options_.compute_crcs ? Crc32::update(0, chunk_.data(), chunk_.size())
-                                                  : 0;
+  const bool crcs = options_.compute_crcs;
+  const std::uint32_t head_crc = crcs ? Crc32::update(0, chunk_.data(), chunk_.size()) : 0;
+  const std::uint32_t tail_crc = crcs && tail_size > 0 ? Crc32::update(0, tail, tail_size) : 0;
+  const std::uint32_t crc =
+      !crcs ? 0 : tail_size > 0 ? Crc32::combine(head_crc, tail_crc, tail_size) : head_crc;
   const std::vector<std::uint8_t>* records = &chunk_;
   if (options_.compression != Compression::None) {
     compressed_.clear();
@@ -126,27 +137,28 @@ void McapWriter::flushChunk() {
   info.start_offset = out_->position();
   info.message_start_time = chunk_start_time_;
   info.message_end_time = chunk_end_time_;
-  info.uncompressed_size = chunk_.size();
+  info.uncompressed_size = chunk_.size() + tail_size;
   info.uncompressed_crc = crc;
   info.compression = mcapCompressionName(options_.compression);
-  info.compressed_size = records->size();
+  info.compressed_size = records->size() + tail_size;
 
   std::vector<std::uint8_t> head;
   ByteWriter w(head);
   w.u8(mcap::kChunk);
-  w.u64(8 + 8 + 8 + 4 + 4 + info.compression.size() + 8 + records->size());
+  w.u64(8 + 8 + 8 + 4 + 4 + info.compression.size() + 8 + info.compressed_size);
   w.u64(info.message_start_time);
   w.u64(info.message_end_time);
   w.u64(info.uncompressed_size);
   w.u32(info.uncompressed_crc);
   w.str(info.compression);
-  w.u64(records->size());
+  w.u64(info.compressed_size);
   out_->write(head.data(), head.size());
-  if (options_.compute_crcs && records == &chunk_) {
-    out_->writeWithCrc(records->data(), records->size(), crc);
+  if (crcs && records == &chunk_) {
+    out_->writeWithCrc(records->data(), records->size(), head_crc);
   } else {
     out_->write(records->data(), records->size());
   }
+  if (tail_size > 0) out_->writeWithCrc(tail, tail_size, tail_crc);
   info.records_offset = info.start_offset + head.size();
   info.length = out_->position() - info.start_offset;
 

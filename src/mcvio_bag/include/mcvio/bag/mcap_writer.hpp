@@ -52,7 +52,9 @@ class McapWriter : public StorageFileWriter {
 
  private:
   void writeRecord(std::uint8_t opcode, const std::vector<std::uint8_t>& content);
-  void flushChunk();
+  /// Writes the current chunk; `tail` (uncompressed chunks only) are record bytes that follow
+  /// chunk_ without having been copied into it.
+  void flushChunk(const std::uint8_t* tail = nullptr, std::size_t tail_size = 0);
 
   std::filesystem::path path_;
   McapWriterOptions options_;
