@@ -80,8 +80,9 @@ void Marginalizer::reducedSystem(const std::vector<const double*>& order, const 
   g->setZero(dim);
 
   struct LandmarkTerms {
-    double h = 0, g = 0;
-    std::map<int, Eigen::RowVectorXd> coupling;  // dense offset -> h_l,block
+    Eigen::MatrixXd h;
+    Eigen::VectorXd g;
+    std::map<int, Eigen::MatrixXd> coupling;  // dense offset -> H_landmark,block
   };
   std::unordered_map<const double*, LandmarkTerms> landmarks;
 
@@ -112,27 +113,32 @@ void Marginalizer::reducedSystem(const std::vector<const double*>& order, const 
       std::size_t li = 0;
       while (res.parameters[li] != lm) ++li;
       LandmarkTerms& t = landmarks[lm];
-      t.h += J[li].squaredNorm();
-      t.g += (J[li].transpose() * r)(0);
+      const auto k = J[li].cols();
+      if (t.h.size() == 0) {
+        t.h.setZero(k, k);
+        t.g.setZero(k);
+      }
+      t.h += J[li].transpose() * J[li];
+      t.g += J[li].transpose() * r;
       for (std::size_t a = 0; a < res.parameters.size(); ++a) {
         if (a == li) continue;
         const int oa = offset.at(res.parameters[a]);
-        Eigen::RowVectorXd c = J[li].transpose() * J[a];
+        Eigen::MatrixXd c = J[li].transpose() * J[a];
         auto it = t.coupling.find(oa);
         if (it == t.coupling.end())
-          t.coupling.emplace(oa, c);
+          t.coupling.emplace(oa, std::move(c));
         else
           it->second += c;
       }
     }
   }
-  // Exact Schur complement of each scalar landmark (they are mutually independent).
+  // Exact Schur complement of each landmark (no residual couples two of them).
   for (const auto& [ptr, t] : landmarks) {
-    if (t.h < 1e-12) continue;
-    const double inv = 1.0 / t.h;
+    const Eigen::MatrixXd h_inv = pseudoInverse(t.h);
     for (const auto& [oa, ca] : t.coupling) {
-      g->segment(oa, ca.size()) -= ca.transpose() * (t.g * inv);
-      for (const auto& [ob, cb] : t.coupling) H->block(oa, ob, ca.size(), cb.size()) -= ca.transpose() * cb * inv;
+      const Eigen::MatrixXd cah = ca.transpose() * h_inv;
+      g->segment(oa, ca.cols()) -= cah * t.g;
+      for (const auto& [ob, cb] : t.coupling) H->block(oa, ob, ca.cols(), cb.cols()) -= cah * cb;
     }
   }
 }

@@ -9,35 +9,35 @@ namespace {
 constexpr double kMinDepth = 1e-6;
 }
 
-ReprojectionFactor::ReprojectionFactor(const Eigen::Vector2d& anchor_bearing, const Eigen::Vector2d& measured,
-                                       const Eigen::Isometry3d& T_BC0, const Eigen::Isometry3d& T_BC,
-                                       double scale)
-    : bearing_(anchor_bearing.x(), anchor_bearing.y(), 1.0),
-      measured_(measured),
+ReprojectionFactor::ReprojectionFactor(const Eigen::Vector2d& measured, const Eigen::Isometry3d& T_BC0,
+                                       const Eigen::Isometry3d& T_BC, double scale)
+    : measured_(measured),
       R_BC0_(T_BC0.linear()),
       R_BC_(T_BC.linear()),
       t_BC0_(T_BC0.translation()),
       t_BC_(T_BC.translation()),
       scale_(scale) {}
 
-bool ReprojectionFactor::pointInCamera(const double* anchor_pose, const double* pose, double inverse_depth,
+bool ReprojectionFactor::pointInCamera(const double* anchor_pose, const double* pose, const double* l,
                                        Eigen::Vector3d* p_C) const {
+  if (!(l[2] > 0)) return false;
   const Eigen::Map<const Eigen::Vector3d> p_a(anchor_pose), p_t(pose);
   const Eigen::Map<const Eigen::Quaterniond> q_a(anchor_pose + 3), q_t(pose + 3);
-  const Eigen::Vector3d p_Ba = R_BC0_ * (bearing_ / inverse_depth) + t_BC0_;
+  const Eigen::Vector3d p_Ba = R_BC0_ * (Eigen::Vector3d(l[0], l[1], 1.0) / l[2]) + t_BC0_;
   const Eigen::Vector3d p_W = q_a * p_Ba + p_a;
   const Eigen::Vector3d p_Bt = q_t.conjugate() * (p_W - p_t);
   *p_C = R_BC_.transpose() * (p_Bt - t_BC_);
-  return inverse_depth > 0 && p_C->z() > kMinDepth;
+  return p_C->z() > kMinDepth;
 }
 
 bool ReprojectionFactor::Evaluate(double const* const* parameters, double* residuals, double** jacobians) const {
-  const double rho = parameters[2][0];
+  const double* l = parameters[2];
+  const double rho = l[2];
   if (!(rho > 0)) return false;
   const Eigen::Map<const Eigen::Vector3d> p_a(parameters[0]), p_t(parameters[1]);
   const Eigen::Map<const Eigen::Quaterniond> q_a(parameters[0] + 3), q_t(parameters[1] + 3);
   const Eigen::Matrix3d R_a = q_a.toRotationMatrix(), R_t = q_t.toRotationMatrix();
-  const Eigen::Vector3d p_C0a = bearing_ / rho;
+  const Eigen::Vector3d p_C0a(l[0] / rho, l[1] / rho, 1.0 / rho);
   const Eigen::Vector3d p_Ba = R_BC0_ * p_C0a + t_BC0_;
   const Eigen::Vector3d p_W = R_a * p_Ba + p_a;
   const Eigen::Vector3d p_Bt = R_t.transpose() * (p_W - p_t);
@@ -51,8 +51,7 @@ bool ReprojectionFactor::Evaluate(double const* const* parameters, double* resid
   Eigen::Matrix<double, 2, 3> J_proj;
   J_proj << inv_z, 0, -p_C.x() * inv_z * inv_z, 0, inv_z, -p_C.y() * inv_z * inv_z;
   J_proj *= scale_;
-  const Eigen::Matrix3d A = R_BC_.transpose() * R_t.transpose();  // d p_C / d p_W
-  const Eigen::Matrix<double, 2, 3> J_pw = J_proj * A;
+  const Eigen::Matrix<double, 2, 3> J_pw = J_proj * R_BC_.transpose() * R_t.transpose();  // d r / d p_W
   if (jacobians[0] != nullptr) {
     Eigen::Map<Eigen::Matrix<double, 2, 7, Eigen::RowMajor>> J(jacobians[0]);
     J.leftCols<3>() = J_pw;
@@ -64,8 +63,10 @@ bool ReprojectionFactor::Evaluate(double const* const* parameters, double* resid
     J.rightCols<4>() = (J_proj * R_BC_.transpose() * so3::hat(p_Bt)) * PoseManifold::liftQuaternionJacobian(q_t);
   }
   if (jacobians[2] != nullptr) {
-    Eigen::Map<Eigen::Vector2d> J(jacobians[2]);
-    J = J_pw * R_a * R_BC0_ * (-bearing_ / (rho * rho));
+    Eigen::Matrix3d J_l;
+    J_l << 1 / rho, 0, -l[0] / (rho * rho), 0, 1 / rho, -l[1] / (rho * rho), 0, 0, -1 / (rho * rho);
+    Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>> J(jacobians[2]);
+    J = J_pw * R_a * R_BC0_ * J_l;
   }
   return true;
 }

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "mcvio/estimator/anchor_stereo_factor.hpp"
+#include "mcvio/estimator/anchor_observation_factor.hpp"
 #include "mcvio/estimator/imu_factor.hpp"
 #include "mcvio/estimator/marginalization_prior.hpp"
 #include "mcvio/estimator/pose_manifold.hpp"
@@ -85,12 +85,12 @@ TEST(ReprojectionFactor, JacobiansMatchNumerical) {
   const Eigen::Isometry3d T_BC1 = makeExtrinsic({0.02, -0.01, 1.52}, {0.05, 0.10, 0.01});
   auto pose_a = makePose({0.1, 0.2, 0.3}, so3::expQuat({0.1, -0.2, 0.3}));
   auto pose_t = makePose({0.4, -0.1, 0.35}, so3::expQuat({0.15, -0.1, 0.45}));
-  std::vector<double> rho{1.0 / 4.0};
+  std::vector<double> landmark{0.1, -0.05, 1.0 / 4.0};
   for (const auto* T_BC : {&T_BC0, &T_BC1}) {
-    ReprojectionFactor f({0.1, -0.05}, {0.12, -0.03}, T_BC0, *T_BC, 458.0);
+    ReprojectionFactor f({0.12, -0.03}, T_BC0, *T_BC, 458.0);
     Eigen::Vector3d p_C;
-    ASSERT_TRUE(f.pointInCamera(pose_a.data(), pose_t.data(), rho[0], &p_C));
-    checkJacobians(f, {pose_a, pose_t, rho}, 1e-6);
+    ASSERT_TRUE(f.pointInCamera(pose_a.data(), pose_t.data(), landmark.data(), &p_C));
+    checkJacobians(f, {pose_a, pose_t, landmark}, 1e-6);
   }
 }
 
@@ -102,29 +102,40 @@ TEST(ReprojectionFactor, ResidualZeroForConsistentGeometry) {
   const Eigen::Isometry3d T_WCa = Eigen::Translation3d(p_a) * q_a * T_BC0;
   const Eigen::Isometry3d T_WCt = Eigen::Translation3d(p_t) * q_t * T_BC0;
   const Eigen::Vector3d ca = T_WCa.inverse() * p_W, ct = T_WCt.inverse() * p_W;
-  ReprojectionFactor f(ca.head<2>() / ca.z(), ct.head<2>() / ct.z(), T_BC0, T_BC0, 458.0);
+  ReprojectionFactor f(ct.head<2>() / ct.z(), T_BC0, T_BC0, 458.0);
   auto pa = makePose(p_a, q_a), pt = makePose(p_t, q_t);
-  double rho = 1.0 / ca.z();
-  const double* params[] = {pa.data(), pt.data(), &rho};
+  double landmark[3] = {ca.x() / ca.z(), ca.y() / ca.z(), 1.0 / ca.z()};
+  const double* params[] = {pa.data(), pt.data(), landmark};
   Eigen::Vector2d r;
   ASSERT_TRUE(f.Evaluate(params, r.data(), nullptr));
   EXPECT_LT(r.norm(), 1e-9);
-  rho *= 1.2;
+  landmark[2] *= 1.2;
   ASSERT_TRUE(f.Evaluate(params, r.data(), nullptr));
   EXPECT_GT(r.norm(), 1e-2);
 }
 
-TEST(AnchorStereoFactor, JacobianMatchesNumericalAndZeroOnTruth) {
+TEST(AnchorObservationFactor, JacobianMatchesNumericalAndZeroOnTruth) {
   const Eigen::Isometry3d T_C1C0 = makeExtrinsic({0.001, 0.002, -0.001}, {-0.11, 0.001, 0.0005});
   const Eigen::Vector3d p_C0(0.4, -0.3, 5.0);
   const Eigen::Vector3d p_C1 = T_C1C0 * p_C0;
-  AnchorStereoFactor f(p_C0.head<2>() / p_C0.z(), p_C1.head<2>() / p_C1.z(), T_C1C0, 458.0);
-  double rho = 1.0 / p_C0.z();
-  const double* params[] = {&rho};
+  std::vector<double> landmark{p_C0.x() / p_C0.z(), p_C0.y() / p_C0.z(), 1.0 / p_C0.z()};
+  const double* params[] = {landmark.data()};
   Eigen::Vector2d r;
-  ASSERT_TRUE(f.Evaluate(params, r.data(), nullptr));
+  AnchorObservationFactor right(p_C1.head<2>() / p_C1.z(), T_C1C0, 458.0);
+  AnchorObservationFactor left(p_C0.head<2>() / p_C0.z(), Eigen::Isometry3d::Identity(), 458.0);
+  for (const auto* f : {&right, &left}) {
+    ASSERT_TRUE(f->Evaluate(params, r.data(), nullptr));
+    EXPECT_LT(r.norm(), 1e-9);
+    checkJacobians(*f, {{0.1, -0.05, 0.3}}, 1e-6);
+  }
+  // Depth is observable through the right camera only.
+  std::vector<double> far = landmark;
+  far[2] *= 0.5;
+  const double* far_params[] = {far.data()};
+  ASSERT_TRUE(right.Evaluate(far_params, r.data(), nullptr));
+  EXPECT_GT(r.norm(), 1.0);
+  ASSERT_TRUE(left.Evaluate(far_params, r.data(), nullptr));
   EXPECT_LT(r.norm(), 1e-9);
-  checkJacobians(f, {{0.3}}, 1e-6);
 }
 
 TEST(ImuFactor, MatchesPreintegratorResidualAndVanishesOnExactData) {

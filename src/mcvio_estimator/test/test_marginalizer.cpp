@@ -1,3 +1,4 @@
+#include <array>
 #include <memory>
 #include <random>
 #include <set>
@@ -5,7 +6,7 @@
 #include <ceres/ceres.h>
 #include <gtest/gtest.h>
 
-#include "mcvio/estimator/anchor_stereo_factor.hpp"
+#include "mcvio/estimator/anchor_observation_factor.hpp"
 #include "mcvio/estimator/imu_factor.hpp"
 #include "mcvio/estimator/marginalizer.hpp"
 #include "mcvio/estimator/pose_manifold.hpp"
@@ -21,7 +22,7 @@ namespace {
 struct SmallProblem {
   std::vector<std::array<double, 7>> poses;
   std::vector<std::array<double, 9>> sbs;
-  std::vector<double> rho;
+  std::vector<std::array<double, 3>> lms;
   std::vector<int> anchor;
   std::vector<std::unique_ptr<ceres::CostFunction>> costs;
   std::vector<std::vector<double*>> params;
@@ -59,19 +60,21 @@ struct SmallProblem {
       params.push_back({poses[i].data(), sbs[i].data(), poses[i + 1].data(), sbs[i + 1].data()});
     }
     const int n_landmarks = 12;
-    rho.resize(n_landmarks);
+    lms.resize(n_landmarks);
     anchor.resize(n_landmarks);
     const Eigen::Isometry3d T_C1C0 = T_BC1.inverse() * T_BC0;
     for (int l = 0; l < n_landmarks; ++l) {
       anchor[l] = l % 2;
       const Eigen::Vector2d bearing(0.3 * nd(rng), 0.2 * nd(rng));
-      rho[l] = 1.0 / (4.0 + nd(rng));
-      costs.emplace_back(new AnchorStereoFactor(bearing, bearing + Eigen::Vector2d(-0.02, 0.001 * nd(rng)), T_C1C0, 458.0));
-      params.push_back({&rho[l]});
+      lms[l] = {bearing.x() + 0.002 * nd(rng), bearing.y() + 0.002 * nd(rng), 1.0 / (4.0 + nd(rng))};
+      costs.emplace_back(new AnchorObservationFactor(bearing, Eigen::Isometry3d::Identity(), 458.0));
+      params.push_back({lms[l].data()});
+      costs.emplace_back(new AnchorObservationFactor(bearing + Eigen::Vector2d(-0.02, 0.001 * nd(rng)), T_C1C0, 458.0));
+      params.push_back({lms[l].data()});
       for (int f = anchor[l] + 1; f < 3; ++f) {
         for (const auto* T : {&T_BC0, &T_BC1}) {
-          costs.emplace_back(new ReprojectionFactor(bearing, bearing + 0.01 * Eigen::Vector2d(nd(rng), nd(rng)), T_BC0, *T, 458.0));
-          params.push_back({poses[anchor[l]].data(), poses[f].data(), &rho[l]});
+          costs.emplace_back(new ReprojectionFactor(bearing + 0.01 * Eigen::Vector2d(nd(rng), nd(rng)), T_BC0, *T, 458.0));
+          params.push_back({poses[anchor[l]].data(), poses[f].data(), lms[l].data()});
         }
       }
     }
@@ -88,7 +91,7 @@ struct SmallProblem {
   void addBlocks(ceres::Problem* problem, ceres::Manifold* manifold) {
     for (auto& p : poses) problem->AddParameterBlock(p.data(), 7, manifold);
     for (auto& s : sbs) problem->AddParameterBlock(s.data(), 9);
-    for (auto& r : rho) problem->AddParameterBlock(&r, 1);
+    for (auto& r : lms) problem->AddParameterBlock(r.data(), 3);
   }
 };
 
@@ -113,13 +116,13 @@ TEST(Marginalizer, PriorEqualsMarginalInformationOfFullProblem) {
   SmallProblem sp;
   PoseManifold manifold;
   std::set<const double*> drop{sp.poses[0].data(), sp.sbs[0].data()};
-  for (std::size_t l = 0; l < sp.rho.size(); ++l)
-    if (sp.anchor[l] == 0) drop.insert(&sp.rho[l]);
+  for (std::size_t l = 0; l < sp.lms.size(); ++l)
+    if (sp.anchor[l] == 0) drop.insert(sp.lms[l].data());
 
   Marginalizer marg;
   for (auto& p : sp.poses) marg.addParameterBlock(p.data(), BlockKind::kPose, 7);
   for (auto& s : sp.sbs) marg.addParameterBlock(s.data(), BlockKind::kEuclidean, 9);
-  for (auto& r : sp.rho) marg.addParameterBlock(&r, BlockKind::kLandmark, 1);
+  for (auto& r : sp.lms) marg.addParameterBlock(r.data(), BlockKind::kLandmark, 3);
   std::vector<std::size_t> remaining;
   for (std::size_t i = 0; i < sp.costs.size(); ++i) {
     bool touches = false;
@@ -145,7 +148,7 @@ TEST(Marginalizer, PriorEqualsMarginalInformationOfFullProblem) {
     kept.push_back(sp.poses[i].data());
     kept.push_back(sp.sbs[i].data());
   }
-  for (std::size_t l = 0; l < sp.rho.size(); ++l) (sp.anchor[l] == 0 ? dropped : kept).push_back(&sp.rho[l]);
+  for (std::size_t l = 0; l < sp.lms.size(); ++l) (sp.anchor[l] == 0 ? dropped : kept).push_back(sp.lms[l].data());
   dropped.push_back(sp.poses[0].data());
   dropped.push_back(sp.sbs[0].data());
   std::vector<double*> order = kept;
@@ -153,7 +156,7 @@ TEST(Marginalizer, PriorEqualsMarginalInformationOfFullProblem) {
   Eigen::MatrixXd H;
   Eigen::VectorXd g;
   hessian(&full, order, &H, &g);
-  const int n = 2 * 6 + 2 * 9 + static_cast<int>(sp.rho.size()) / 2;
+  const int n = 2 * 6 + 2 * 9 + 3 * static_cast<int>(sp.lms.size()) / 2;
   const int m = static_cast<int>(H.rows()) - n;
   const Eigen::MatrixXd Hmm_inv = H.bottomRightCorner(m, m).inverse();
   const Eigen::MatrixXd H_marg = H.topLeftCorner(n, n) - H.topRightCorner(n, m) * Hmm_inv * H.bottomLeftCorner(m, n);
@@ -170,7 +173,7 @@ TEST(Marginalizer, PriorEqualsMarginalInformationOfFullProblem) {
     else if (p == sp.sbs[1].data() || p == sp.sbs[2].data())
       reduced.AddParameterBlock(p, 9);
     else
-      reduced.AddParameterBlock(p, 1);
+      reduced.AddParameterBlock(p, 3);
   }
   reduced.AddResidualBlock(prior_factor, nullptr, prior_factor->parameterBlocks());
   for (std::size_t i : remaining) reduced.AddResidualBlock(sp.costs[i].get(), nullptr, sp.params[i]);
@@ -192,7 +195,7 @@ TEST(Marginalizer, MarginalCovarianceMatchesFullInverse) {
   Marginalizer marg;
   for (auto& p : sp.poses) marg.addParameterBlock(p.data(), BlockKind::kPose, 7);
   for (auto& s : sp.sbs) marg.addParameterBlock(s.data(), BlockKind::kEuclidean, 9);
-  for (auto& r : sp.rho) marg.addParameterBlock(&r, BlockKind::kLandmark, 1);
+  for (auto& r : sp.lms) marg.addParameterBlock(r.data(), BlockKind::kLandmark, 3);
   for (std::size_t i = 0; i < sp.costs.size(); ++i) marg.addResidualBlock(sp.costs[i].get(), nullptr, sp.params[i]);
   Eigen::MatrixXd cov;
   ASSERT_TRUE(marg.marginalCovariance(sp.poses[2].data(), &cov));
@@ -205,7 +208,7 @@ TEST(Marginalizer, MarginalCovarianceMatchesFullInverse) {
   for (std::size_t i = 0; i < sp.costs.size(); ++i) full.AddResidualBlock(sp.costs[i].get(), nullptr, sp.params[i]);
   std::vector<double*> order{sp.poses[2].data(), sp.poses[0].data(), sp.poses[1].data()};
   for (auto& s : sp.sbs) order.push_back(s.data());
-  for (auto& r : sp.rho) order.push_back(&r);
+  for (auto& r : sp.lms) order.push_back(r.data());
   Eigen::MatrixXd H;
   Eigen::VectorXd g;
   hessian(&full, order, &H, &g);

@@ -5,23 +5,22 @@
 
 namespace mcvio::estimator {
 
-/// The right camera's observation of a landmark in the landmark's own anchor frame: depends only on
-/// the inverse depth (through the fixed cam0 -> cam1 extrinsics), which makes metric depth
-/// observable from a single stereo frame. Parameter block: inverse depth (1). Residual scaled like
-/// ReprojectionFactor.
-class AnchorStereoFactor : public ceres::SizedCostFunction<2, 1> {
+/// A landmark's observation in its own anchor frame. The landmark block is [alpha, beta, rho]:
+/// the point in the anchor frame's cam0 is (alpha, beta, 1) / rho. For cam0 (T_CC0 = identity)
+/// this pins the bearing; for cam1 it also fixes the metric depth through the stereo baseline,
+/// which makes scale observable from a single frame. Residual scaled like ReprojectionFactor.
+class AnchorObservationFactor : public ceres::SizedCostFunction<2, 3> {
  public:
-  /// @param T_C1C0 cam0 -> cam1 transform (p_C1 = T_C1C0 p_C0).
-  AnchorStereoFactor(const Eigen::Vector2d& anchor_bearing, const Eigen::Vector2d& measured,
-                     const Eigen::Isometry3d& T_C1C0, double scale);
+  /// @param measured undistorted normalised coordinates in the observing camera.
+  /// @param T_CC0 anchor cam0 -> observing camera (p_C = T_CC0 p_C0); identity for cam0.
+  AnchorObservationFactor(const Eigen::Vector2d& measured, const Eigen::Isometry3d& T_CC0, double scale);
 
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
 
  private:
-  Eigen::Vector3d bearing_;
   Eigen::Vector2d measured_;
-  Eigen::Matrix3d R_C1C0_;
-  Eigen::Vector3d t_C1C0_;
+  Eigen::Matrix3d R_CC0_;
+  Eigen::Vector3d t_CC0_;
   double scale_;
 };
 

@@ -11,7 +11,7 @@ namespace mcvio::estimator {
 enum class BlockKind {
   kEuclidean,  ///< any vector (speed-bias, ...); tangent = ambient
   kPose,       ///< [p, q] with PoseManifold (7 ambient, 6 tangent)
-  kLandmark,   ///< scalar inverse depth; Schur-eliminated first (no two in one residual)
+  kLandmark,   ///< small Euclidean landmark block; Schur-eliminated first (no two in one residual)
 };
 
 /// A linear Gaussian prior left by marginalisation: cost 0.5 |r + J (x - x_lin)|^2 over the kept

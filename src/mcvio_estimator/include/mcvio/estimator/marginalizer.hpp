@@ -14,8 +14,8 @@ namespace mcvio::estimator {
 
 /// Linearises a set of residual blocks at the current parameter values and reduces the normal
 /// equations by Schur complement. Used for marginalisation (removed states -> prior on the kept
-/// ones) and for the marginal covariance of one block. Scalar landmark blocks are eliminated
-/// first, one at a time, which is exact because no residual touches two landmarks.
+/// ones) and for the marginal covariance of one block. Landmark blocks are eliminated first, one
+/// at a time, which is exact because no residual touches two landmarks.
 /// Robust losses are applied by scaling residual and Jacobian with sqrt(rho'), as in IRLS.
 class Marginalizer {
  public:

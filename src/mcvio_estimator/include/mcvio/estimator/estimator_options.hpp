@@ -1,0 +1,83 @@
+#pragma once
+#include <string>
+
+namespace YAML {
+class Node;
+}
+
+namespace mcvio::estimator {
+
+/// Robust loss on the visual residuals.
+enum class RobustLoss { kNone, kHuber, kCauchy };
+
+/// Options of SlidingWindowEstimator. Defaults suit a EuRoC-like stereo rig at 20 Hz with a
+/// 200 Hz IMU and a feature-level input (about 150 tracked features per frame).
+/// Every field can be set from YAML under the same key; validate() names the offending key.
+struct EstimatorOptions {
+  // Windows.
+  int imu_window_size = 10;       ///< N: newest frames with full state (pose, speed, biases)
+  int keyframe_window_size = 6;   ///< M: older keyframes kept with pose only
+  double keyframe_parallax_px = 10.0;        ///< mean parallax to the last keyframe that makes a keyframe
+  double keyframe_tracked_fraction = 0.5;    ///< fewer landmarks of the last keyframe still tracked -> keyframe
+
+  // Visual measurements.
+  double observation_sigma_px = 1.0;         ///< pixel noise of a feature (whitening)
+  RobustLoss robust_loss = RobustLoss::kHuber;
+  double robust_loss_scale_px = 1.5;         ///< where the robust loss starts to bend [px]
+  double outlier_threshold_px = 4.0;         ///< observations with larger error after a solve are dropped
+  double min_depth_m = 0.1;                  ///< landmarks closer than this are rejected
+  double max_depth_m = 40.0;                 ///< landmarks farther than this are rejected
+  double min_stereo_disparity_px = 0.5;      ///< stereo pairs with less disparity give no depth
+
+  // IMU. Multiplying the datasheet densities absorbs unmodelled effects on real sensors.
+  double gravity_magnitude = 9.81;           ///< [m/s^2], world z up
+  double imu_noise_inflation = 1.0;          ///< factor on the white-noise densities
+  double imu_random_walk_inflation = 1.0;    ///< factor on the bias random walks
+  double repropagate_gyro_bias_change = 0.01;   ///< [rad/s] re-integrate beyond this bias change
+  double repropagate_accel_bias_change = 0.1;   ///< [m/s^2]
+  double max_imu_gap_s = 0.1;                ///< larger holes in the IMU stream reset the estimator
+
+  // Solver.
+  int max_iterations = 8;
+  double max_solver_time_s = 0.05;           ///< time budget per frame for Ceres
+  int num_threads = 1;
+  bool compute_covariance = true;            ///< pose covariance of the newest frame in the output
+
+  // Initialisation.
+  double init_window_s = 1.0;                ///< IMU history examined at start
+  double static_gyro_std_max = 0.02;         ///< [rad/s] below: the device is still
+  double static_accel_std_max = 0.15;        ///< [m/s^2]
+  double init_position_sigma = 1e-3;         ///< [m] prior on the first position (gauge)
+  double init_yaw_sigma = 1e-3;              ///< [rad] prior on the first yaw (gauge)
+  double init_roll_pitch_sigma = 0.02;       ///< [rad] gravity alignment uncertainty, static start
+  double init_roll_pitch_sigma_moving = 0.1; ///< [rad] moving start (mean accel includes motion)
+  double init_velocity_sigma_static = 0.01;  ///< [m/s] static start
+  double init_velocity_sigma_moving = 2.0;   ///< [m/s] moving start
+  double init_gyro_bias_sigma_static = 0.005;  ///< [rad/s] bias from stillness
+  double init_gyro_bias_sigma_moving = 0.05;   ///< [rad/s]
+  double init_accel_bias_sigma = 0.2;        ///< [m/s^2]
+
+  // Zero-velocity detection.
+  bool zero_velocity_enabled = true;
+  double zero_velocity_max_disparity_px = 0.5;  ///< mean feature motion between consecutive frames
+  double zero_velocity_gyro_std_max = 0.01;     ///< [rad/s] over the inter-frame IMU samples
+  double zero_velocity_accel_std_max = 0.1;     ///< [m/s^2]
+  double zero_velocity_sigma = 0.01;            ///< [m/s] constraint strength
+
+  // Failure detection (any violation resets with a log line).
+  double max_speed_mps = 30.0;
+  double max_gyro_bias = 0.5;                ///< [rad/s]
+  double max_accel_bias = 2.0;               ///< [m/s^2]
+  double max_position_jump_m = 1.0;          ///< optimised vs IMU-predicted position of the newest frame
+  double max_time_without_vision_s = 3.0;    ///< IMU-only propagation longer than this resets
+
+  /// Throws mcvio::InputError naming the key when a value is out of range.
+  void validate() const;
+  /// Reads the keys present in `node` (others keep their value) and validates. `context` names the
+  /// source (file path) in error messages.
+  static EstimatorOptions fromYaml(const YAML::Node& node, const std::string& context = "estimator options");
+  /// Loads a YAML file; the options may sit at the top level or under a key `estimator`.
+  static EstimatorOptions fromYamlFile(const std::string& path);
+};
+
+}  // namespace mcvio::estimator

@@ -1,0 +1,63 @@
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "mcvio/core/time.hpp"
+#include "mcvio/estimator/imu_bias.hpp"
+
+namespace mcvio::estimator {
+
+/// Where the estimator stands after a frame.
+enum class EstimatorStatus : std::uint8_t {
+  kNotInitialized = 0,  ///< waiting for IMU history or a usable first frame; no pose yet
+  kTracking = 1,        ///< normal operation
+  kReset = 2,           ///< a failure was detected in this frame; the state was re-initialised
+};
+
+const char* toString(EstimatorStatus status);
+
+/// Wall-clock cost of one frame, by stage [ms].
+struct EstimatorTimings {
+  double preintegration_ms = 0;
+  double setup_ms = 0;           ///< landmark bookkeeping and building the Ceres problem
+  double solve_ms = 0;
+  double marginalization_ms = 0;
+  double covariance_ms = 0;
+  double total_ms = 0;
+};
+
+/// The estimator's answer for one frame.
+struct EstimatorOutput {
+  Timestamp t = 0;
+  std::uint32_t frame_index = 0;
+  EstimatorStatus status = EstimatorStatus::kNotInitialized;
+  /// False when the frame was rejected (bad input or waiting for IMU); the state was not updated
+  /// and the pose fields hold the last estimate (if any). `message` says why.
+  bool frame_accepted = false;
+
+  Eigen::Vector3d p_WB = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond q_WB = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d v_WB = Eigen::Vector3d::Zero();
+  ImuBias bias;
+  /// Covariance of [dp (world frame), dtheta (body frame, q = q_hat * Exp(dtheta))].
+  Eigen::Matrix<double, 6, 6> pose_covariance = Eigen::Matrix<double, 6, 6>::Zero();
+  bool covariance_valid = false;
+
+  bool is_keyframe = false;
+  bool zero_velocity = false;       ///< the frame was detected at rest
+  int num_frames = 0;               ///< frames in the window (IMU window + keyframes)
+  int num_keyframes = 0;
+  int num_landmarks = 0;            ///< landmarks in the optimisation
+  int num_visual_residuals = 0;     ///< reprojection residuals in the optimisation
+  int num_tracked_features = 0;     ///< this frame's cam0 features that belong to a landmark
+  int num_new_landmarks = 0;
+  int num_outliers = 0;             ///< observations dropped after the solve
+  int solver_iterations = 0;
+  EstimatorTimings timings;
+  std::string message;              ///< warnings about this frame's input, reset reasons
+};
+
+}  // namespace mcvio::estimator

@@ -1,0 +1,155 @@
+#pragma once
+#include <array>
+#include <deque>
+#include <memory>
+#include <set>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "mcvio/core/feature_frame.hpp"
+#include "mcvio/core/imu_noise.hpp"
+#include "mcvio/core/imu_sample.hpp"
+#include "mcvio/core/stereo_rig_calibration.hpp"
+#include "mcvio/estimator/estimator_options.hpp"
+#include "mcvio/estimator/estimator_output.hpp"
+#include "mcvio/estimator/imu_buffer.hpp"
+#include "mcvio/estimator/imu_preintegrator.hpp"
+#include "mcvio/estimator/marginalization_prior.hpp"
+#include "mcvio/estimator/pose_manifold.hpp"
+
+namespace ceres {
+class LossFunction;
+class CostFunction;
+}  // namespace ceres
+
+namespace mcvio::estimator {
+
+/// Reference keyframe stereo VIO backend (dissertation ch. 3, OKVIS-like).
+///
+/// Feed IMU samples with addImu() and feature frames with addFrame(), in time order; addFrame()
+/// needs IMU up to the frame's time. Each frame gets a state (p, q, v, bg, ba); landmarks are
+/// anchored inverse-depth points [alpha, beta, rho] in the cam0 frame of their first stereo
+/// observation (the anchor). Ceres optimises a double
+/// window: the newest N frames with full state linked by preintegrated IMU factors, and up to M
+/// older keyframes with pose only. A frame leaving the IMU window keeps its pose if it is a
+/// keyframe (its speed and biases are marginalised), otherwise it is marginalised with its IMU
+/// link; a keyframe leaving its window is marginalised with the landmarks only it and other
+/// keyframes see. Marginalisation is a Schur-complement prior (see Marginalizer).
+///
+/// Bad input never throws: it is skipped with a message in the output (and a log line), and a
+/// detected failure resets the estimator to the last good position and yaw with status kReset.
+class SlidingWindowEstimator {
+ public:
+  /// @param T_BC0, T_BC1 camera -> body (EuRoC T_BS of each camera).
+  /// @param focal_length_px scales normalised-coordinate residuals to pixels.
+  SlidingWindowEstimator(const EstimatorOptions& options, const Eigen::Isometry3d& T_BC0,
+                         const Eigen::Isometry3d& T_BC1, double focal_length_px, const ImuNoiseParams& imu_noise);
+  /// Takes extrinsics, focal length (mean of cam0 fu, fv) and IMU noise from a rig calibration.
+  SlidingWindowEstimator(const EstimatorOptions& options, const StereoRigCalibration& rig);
+  ~SlidingWindowEstimator();
+  SlidingWindowEstimator(const SlidingWindowEstimator&) = delete;
+  SlidingWindowEstimator& operator=(const SlidingWindowEstimator&) = delete;
+
+  /// Adds an IMU sample. Non-finite, duplicated or backwards samples are skipped with a warning;
+  /// returns false for those.
+  bool addImu(const ImuSample& sample);
+
+  /// Processes one feature frame and returns the estimate at its time.
+  EstimatorOutput addFrame(const FeatureFrame& frame);
+
+  /// Drops the whole state (keeps IMU history and the last good position/yaw for re-initialisation).
+  void reset(const std::string& reason);
+
+  EstimatorStatus status() const { return initialized_ ? EstimatorStatus::kTracking : EstimatorStatus::kNotInitialized; }
+  const EstimatorOptions& options() const { return options_; }
+  /// World positions of the landmarks currently in the window.
+  std::vector<Eigen::Vector3d> landmarkPositions() const;
+  /// Number of resets so far.
+  int resetCount() const { return reset_count_; }
+
+ private:
+  struct Frame {
+    std::uint64_t id = 0;
+    Timestamp t = 0;
+    std::uint32_t frame_index = 0;
+    std::array<double, 7> pose{};  ///< p, q (x, y, z, w)
+    std::array<double, 9> sb{};    ///< v, bg, ba
+    bool keyframe = false;
+    bool has_speed_bias = true;    ///< in the IMU window
+    bool zero_velocity = false;
+    std::unique_ptr<ImuPreintegrator> imu;  ///< from the previous frame, while both are in the IMU window
+    std::unordered_map<std::uint64_t, Eigen::Vector2d> cam0, cam1;  ///< track -> normalised coords
+  };
+  struct Landmark {
+    std::uint64_t track_id = 0;
+    std::uint64_t anchor_frame = 0;
+    /// [alpha, beta, rho]: the point in the anchor frame's cam0 is (alpha, beta, 1) / rho.
+    std::array<double, 3> param{0.0, 0.0, 1.0};
+    double depth() const { return 1.0 / param[2]; }
+  };
+  enum class ResidualKind { kImu, kPrior, kZeroVelocity, kVisual };
+  struct ResidualRecord {
+    ceres::CostFunction* cost;
+    ceres::LossFunction* loss;
+    std::vector<double*> params;
+    ResidualKind kind;
+    std::uint64_t track_id = 0;
+    std::uint64_t frame_id = 0;
+    int camera = 0;
+    bool valid = true;
+  };
+
+  bool initialize(std::unique_ptr<Frame> frame, std::string* message);
+  Frame* frameById(std::uint64_t id);
+  Frame& newest() { return *frames_.back(); }
+  void createLandmarks(Frame& frame, int* created);
+  bool triangulateStereo(const Eigen::Vector2d& n0, const Eigen::Vector2d& n1, double* depth) const;
+  bool decideKeyframe(const Frame& frame) const;
+  bool detectZeroVelocity(const Frame& prev, const Frame& cur) const;
+  void repropagateImu();
+  void solve(EstimatorOutput* out);
+  void removeOutliers(EstimatorOutput* out);
+  std::string checkFailure(const Eigen::Vector3d& p_pred) const;
+  void computeCovariance(EstimatorOutput* out);
+  void marginalize();
+  void marginalizeOldestImuFrame();
+  void marginalizeOldestKeyframe();
+  void marginalizeWith(const std::vector<const ResidualRecord*>& records, const std::set<const double*>& drop);
+  bool reanchor(Landmark& lm, std::uint64_t leaving_frame);
+  void eraseLandmark(std::uint64_t track_id);
+  bool landmarkPointWorld(const Landmark& lm, Eigen::Vector3d* p_W) const;
+  void fillState(EstimatorOutput* out) const;
+
+  EstimatorOptions options_;
+  Eigen::Isometry3d T_BC0_, T_BC1_, T_C1C0_;
+  double focal_px_;
+  ImuNoiseParams imu_noise_;  ///< inflated
+  Eigen::Vector3d gravity_;
+  PoseManifold pose_manifold_;
+  std::unique_ptr<ceres::LossFunction> loss_;
+
+  ImuBuffer imu_;
+  std::deque<std::unique_ptr<Frame>> frames_;
+  std::unordered_map<std::uint64_t, Landmark> landmarks_;
+  std::shared_ptr<MarginalizationPrior> prior_;
+  std::vector<ResidualRecord> records_;  ///< residuals of the last solve (owned by problem_)
+  std::vector<std::unique_ptr<ceres::CostFunction>> extra_costs_;  ///< prior factors made after the solve
+  struct ProblemHolder;
+  std::unique_ptr<ProblemHolder> problem_;
+
+  bool initialized_ = false;
+  std::uint64_t next_frame_id_ = 0;
+  Timestamp last_frame_t_ = 0;
+  bool have_last_frame_t_ = false;
+  Timestamp last_vision_t_ = 0;
+  Eigen::Vector3d last_good_p_ = Eigen::Vector3d::Zero();
+  double last_good_yaw_ = 0;
+  EstimatorOutput last_output_;
+  int reset_count_ = 0;
+};
+
+}  // namespace mcvio::estimator

@@ -1,0 +1,175 @@
+#include "mcvio/estimator/estimator_options.hpp"
+
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include <yaml-cpp/yaml.h>
+
+#include "mcvio/core/input_error.hpp"
+
+namespace mcvio::estimator {
+
+namespace {
+
+thread_local std::set<std::string>* g_known_keys = nullptr;
+
+template <typename T>
+void read(const YAML::Node& node, const char* key, T* value, const std::string& context) {
+  if (g_known_keys != nullptr) g_known_keys->insert(key);
+  const YAML::Node v = node[key];
+  if (!v) return;
+  try {
+    *value = v.as<T>();
+  } catch (const YAML::Exception& e) {
+    throw InputError(context + ": key '" + key + "' has an invalid value (" + e.what() + ")");
+  }
+}
+
+void require(bool ok, const char* key, const std::string& what, double value) {
+  if (ok && std::isfinite(value)) return;
+  std::ostringstream os;
+  os << "estimator option '" << key << "' " << what << " (got " << value << ")";
+  throw InputError(os.str());
+}
+
+}  // namespace
+
+void EstimatorOptions::validate() const {
+  require(imu_window_size >= 2, "imu_window_size", "must be >= 2", imu_window_size);
+  require(keyframe_window_size >= 1, "keyframe_window_size", "must be >= 1", keyframe_window_size);
+  require(keyframe_parallax_px > 0, "keyframe_parallax_px", "must be > 0", keyframe_parallax_px);
+  require(keyframe_tracked_fraction > 0 && keyframe_tracked_fraction <= 1, "keyframe_tracked_fraction",
+          "must be in (0, 1]", keyframe_tracked_fraction);
+  require(observation_sigma_px > 0, "observation_sigma_px", "must be > 0", observation_sigma_px);
+  require(robust_loss_scale_px > 0, "robust_loss_scale_px", "must be > 0", robust_loss_scale_px);
+  require(outlier_threshold_px > 0, "outlier_threshold_px", "must be > 0", outlier_threshold_px);
+  require(min_depth_m > 0, "min_depth_m", "must be > 0", min_depth_m);
+  require(max_depth_m > min_depth_m, "max_depth_m", "must be > min_depth_m", max_depth_m);
+  require(min_stereo_disparity_px >= 0, "min_stereo_disparity_px", "must be >= 0", min_stereo_disparity_px);
+  require(gravity_magnitude > 0, "gravity_magnitude", "must be > 0", gravity_magnitude);
+  require(imu_noise_inflation > 0, "imu_noise_inflation", "must be > 0", imu_noise_inflation);
+  require(imu_random_walk_inflation > 0, "imu_random_walk_inflation", "must be > 0", imu_random_walk_inflation);
+  require(repropagate_gyro_bias_change > 0, "repropagate_gyro_bias_change", "must be > 0",
+          repropagate_gyro_bias_change);
+  require(repropagate_accel_bias_change > 0, "repropagate_accel_bias_change", "must be > 0",
+          repropagate_accel_bias_change);
+  require(max_imu_gap_s > 0, "max_imu_gap_s", "must be > 0", max_imu_gap_s);
+  require(max_iterations >= 1, "max_iterations", "must be >= 1", max_iterations);
+  require(max_solver_time_s > 0, "max_solver_time_s", "must be > 0", max_solver_time_s);
+  require(num_threads >= 1, "num_threads", "must be >= 1", num_threads);
+  require(init_window_s > 0, "init_window_s", "must be > 0", init_window_s);
+  require(static_gyro_std_max > 0, "static_gyro_std_max", "must be > 0", static_gyro_std_max);
+  require(static_accel_std_max > 0, "static_accel_std_max", "must be > 0", static_accel_std_max);
+  require(init_position_sigma > 0, "init_position_sigma", "must be > 0", init_position_sigma);
+  require(init_yaw_sigma > 0, "init_yaw_sigma", "must be > 0", init_yaw_sigma);
+  require(init_roll_pitch_sigma > 0, "init_roll_pitch_sigma", "must be > 0", init_roll_pitch_sigma);
+  require(init_roll_pitch_sigma_moving > 0, "init_roll_pitch_sigma_moving", "must be > 0",
+          init_roll_pitch_sigma_moving);
+  require(init_velocity_sigma_static > 0, "init_velocity_sigma_static", "must be > 0", init_velocity_sigma_static);
+  require(init_velocity_sigma_moving > 0, "init_velocity_sigma_moving", "must be > 0", init_velocity_sigma_moving);
+  require(init_gyro_bias_sigma_static > 0, "init_gyro_bias_sigma_static", "must be > 0", init_gyro_bias_sigma_static);
+  require(init_gyro_bias_sigma_moving > 0, "init_gyro_bias_sigma_moving", "must be > 0", init_gyro_bias_sigma_moving);
+  require(init_accel_bias_sigma > 0, "init_accel_bias_sigma", "must be > 0", init_accel_bias_sigma);
+  require(zero_velocity_max_disparity_px >= 0, "zero_velocity_max_disparity_px", "must be >= 0",
+          zero_velocity_max_disparity_px);
+  require(zero_velocity_gyro_std_max >= 0, "zero_velocity_gyro_std_max", "must be >= 0", zero_velocity_gyro_std_max);
+  require(zero_velocity_accel_std_max >= 0, "zero_velocity_accel_std_max", "must be >= 0",
+          zero_velocity_accel_std_max);
+  require(zero_velocity_sigma > 0, "zero_velocity_sigma", "must be > 0", zero_velocity_sigma);
+  require(max_speed_mps > 0, "max_speed_mps", "must be > 0", max_speed_mps);
+  require(max_gyro_bias > 0, "max_gyro_bias", "must be > 0", max_gyro_bias);
+  require(max_accel_bias > 0, "max_accel_bias", "must be > 0", max_accel_bias);
+  require(max_position_jump_m > 0, "max_position_jump_m", "must be > 0", max_position_jump_m);
+  require(max_time_without_vision_s > 0, "max_time_without_vision_s", "must be > 0", max_time_without_vision_s);
+}
+
+EstimatorOptions EstimatorOptions::fromYaml(const YAML::Node& node, const std::string& context) {
+  EstimatorOptions o;
+  if (!node || node.IsNull()) return o;
+  if (!node.IsMap()) throw InputError(context + ": estimator options must be a YAML map");
+  const auto& c = context;
+  std::set<std::string> known{"robust_loss"};
+  g_known_keys = &known;
+  read(node, "imu_window_size", &o.imu_window_size, c);
+  read(node, "keyframe_window_size", &o.keyframe_window_size, c);
+  read(node, "keyframe_parallax_px", &o.keyframe_parallax_px, c);
+  read(node, "keyframe_tracked_fraction", &o.keyframe_tracked_fraction, c);
+  read(node, "observation_sigma_px", &o.observation_sigma_px, c);
+  if (node["robust_loss"]) {
+    std::string s;
+    read(node, "robust_loss", &s, c);
+    if (s == "none")
+      o.robust_loss = RobustLoss::kNone;
+    else if (s == "huber")
+      o.robust_loss = RobustLoss::kHuber;
+    else if (s == "cauchy")
+      o.robust_loss = RobustLoss::kCauchy;
+    else
+      throw InputError(c + ": key 'robust_loss' must be none, huber or cauchy (got '" + s + "')");
+  }
+  read(node, "robust_loss_scale_px", &o.robust_loss_scale_px, c);
+  read(node, "outlier_threshold_px", &o.outlier_threshold_px, c);
+  read(node, "min_depth_m", &o.min_depth_m, c);
+  read(node, "max_depth_m", &o.max_depth_m, c);
+  read(node, "min_stereo_disparity_px", &o.min_stereo_disparity_px, c);
+  read(node, "gravity_magnitude", &o.gravity_magnitude, c);
+  read(node, "imu_noise_inflation", &o.imu_noise_inflation, c);
+  read(node, "imu_random_walk_inflation", &o.imu_random_walk_inflation, c);
+  read(node, "repropagate_gyro_bias_change", &o.repropagate_gyro_bias_change, c);
+  read(node, "repropagate_accel_bias_change", &o.repropagate_accel_bias_change, c);
+  read(node, "max_imu_gap_s", &o.max_imu_gap_s, c);
+  read(node, "max_iterations", &o.max_iterations, c);
+  read(node, "max_solver_time_s", &o.max_solver_time_s, c);
+  read(node, "num_threads", &o.num_threads, c);
+  read(node, "compute_covariance", &o.compute_covariance, c);
+  read(node, "init_window_s", &o.init_window_s, c);
+  read(node, "static_gyro_std_max", &o.static_gyro_std_max, c);
+  read(node, "static_accel_std_max", &o.static_accel_std_max, c);
+  read(node, "init_position_sigma", &o.init_position_sigma, c);
+  read(node, "init_yaw_sigma", &o.init_yaw_sigma, c);
+  read(node, "init_roll_pitch_sigma", &o.init_roll_pitch_sigma, c);
+  read(node, "init_roll_pitch_sigma_moving", &o.init_roll_pitch_sigma_moving, c);
+  read(node, "init_velocity_sigma_static", &o.init_velocity_sigma_static, c);
+  read(node, "init_velocity_sigma_moving", &o.init_velocity_sigma_moving, c);
+  read(node, "init_gyro_bias_sigma_static", &o.init_gyro_bias_sigma_static, c);
+  read(node, "init_gyro_bias_sigma_moving", &o.init_gyro_bias_sigma_moving, c);
+  read(node, "init_accel_bias_sigma", &o.init_accel_bias_sigma, c);
+  read(node, "zero_velocity_enabled", &o.zero_velocity_enabled, c);
+  read(node, "zero_velocity_max_disparity_px", &o.zero_velocity_max_disparity_px, c);
+  read(node, "zero_velocity_gyro_std_max", &o.zero_velocity_gyro_std_max, c);
+  read(node, "zero_velocity_accel_std_max", &o.zero_velocity_accel_std_max, c);
+  read(node, "zero_velocity_sigma", &o.zero_velocity_sigma, c);
+  read(node, "max_speed_mps", &o.max_speed_mps, c);
+  read(node, "max_gyro_bias", &o.max_gyro_bias, c);
+  read(node, "max_accel_bias", &o.max_accel_bias, c);
+  read(node, "max_position_jump_m", &o.max_position_jump_m, c);
+  read(node, "max_time_without_vision_s", &o.max_time_without_vision_s, c);
+  g_known_keys = nullptr;
+  // A misspelt key would otherwise silently keep its default.
+  for (const auto& kv : node) {
+    const std::string key = kv.first.as<std::string>();
+    if (known.count(key) == 0) throw InputError(c + ": unknown estimator option '" + key + "'");
+  }
+  try {
+    o.validate();
+  } catch (const InputError& e) {
+    throw InputError(context + ": " + e.what());
+  }
+  return o;
+}
+
+EstimatorOptions EstimatorOptions::fromYamlFile(const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw InputError(path + ": cannot open estimator options file");
+  } catch (const YAML::Exception& e) {
+    throw InputError(path + ": malformed YAML (" + e.what() + ")");
+  }
+  if (root.IsMap() && root["estimator"]) return fromYaml(root["estimator"], path);
+  return fromYaml(root, path);
+}
+
+}  // namespace mcvio::estimator

@@ -1,0 +1,798 @@
+#include "mcvio/estimator/sliding_window_estimator.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <unordered_set>
+
+#include <ceres/ceres.h>
+#include <spdlog/spdlog.h>
+
+#include "mcvio/core/input_error.hpp"
+#include "mcvio/estimator/anchor_observation_factor.hpp"
+#include "mcvio/estimator/imu_factor.hpp"
+#include "mcvio/estimator/marginalizer.hpp"
+#include "mcvio/estimator/reprojection_factor.hpp"
+#include "mcvio/estimator/so3.hpp"
+#include "mcvio/estimator/zero_velocity_factor.hpp"
+
+namespace mcvio::estimator {
+
+struct SlidingWindowEstimator::ProblemHolder {
+  std::unique_ptr<ceres::Problem> problem;
+};
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+double yawOf(const Eigen::Quaterniond& q) {
+  const Eigen::Matrix3d R = q.toRotationMatrix();
+  return std::atan2(R(1, 0), R(0, 0));
+}
+
+Eigen::Vector3d stdDev(const std::vector<Eigen::Vector3d>& v) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero(), var = Eigen::Vector3d::Zero();
+  for (const auto& x : v) mean += x;
+  mean /= static_cast<double>(v.size());
+  for (const auto& x : v) var += (x - mean).cwiseAbs2();
+  return (var / static_cast<double>(v.size())).cwiseSqrt();
+}
+
+constexpr const char* kLog = "[mcvio_estimator] ";
+
+}  // namespace
+
+const char* toString(EstimatorStatus status) {
+  switch (status) {
+    case EstimatorStatus::kNotInitialized:
+      return "not_initialized";
+    case EstimatorStatus::kTracking:
+      return "tracking";
+    case EstimatorStatus::kReset:
+      return "reset";
+  }
+  return "unknown";
+}
+
+SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options, const Eigen::Isometry3d& T_BC0,
+                                               const Eigen::Isometry3d& T_BC1, double focal_length_px,
+                                               const ImuNoiseParams& imu_noise)
+    : options_(options), T_BC0_(T_BC0), T_BC1_(T_BC1), focal_px_(focal_length_px), imu_noise_(imu_noise) {
+  options_.validate();
+  if (!(focal_length_px > 0) || !std::isfinite(focal_length_px))
+    throw InputError("SlidingWindowEstimator: focal length must be positive");
+  T_C1C0_ = T_BC1_.inverse() * T_BC0_;
+  imu_noise_.gyroscope_noise_density *= options_.imu_noise_inflation;
+  imu_noise_.accelerometer_noise_density *= options_.imu_noise_inflation;
+  imu_noise_.gyroscope_random_walk *= options_.imu_random_walk_inflation;
+  imu_noise_.accelerometer_random_walk *= options_.imu_random_walk_inflation;
+  gravity_ = Eigen::Vector3d(0, 0, -options_.gravity_magnitude);
+  const double scale = options_.robust_loss_scale_px / options_.observation_sigma_px;
+  if (options_.robust_loss == RobustLoss::kHuber)
+    loss_ = std::make_unique<ceres::HuberLoss>(scale);
+  else if (options_.robust_loss == RobustLoss::kCauchy)
+    loss_ = std::make_unique<ceres::CauchyLoss>(scale);
+}
+
+SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options, const StereoRigCalibration& rig)
+    : SlidingWindowEstimator(options, rig.cam0.T_BC, rig.cam1.T_BC,
+                             0.5 * (rig.cam0.model.fu() + rig.cam0.model.fv()), rig.imu.noise) {}
+
+SlidingWindowEstimator::~SlidingWindowEstimator() {
+  // The records point into the problem; drop them first.
+  records_.clear();
+  problem_.reset();
+}
+
+bool SlidingWindowEstimator::addImu(const ImuSample& sample) {
+  std::string msg;
+  const auto res = imu_.add(sample, options_.max_imu_gap_s, &msg);
+  if (!msg.empty()) spdlog::warn("{}{}", kLog, msg);
+  return res == ImuBuffer::AddResult::kAccepted;
+}
+
+SlidingWindowEstimator::Frame* SlidingWindowEstimator::frameById(std::uint64_t id) {
+  for (auto& f : frames_)
+    if (f->id == id) return f.get();
+  return nullptr;
+}
+
+void SlidingWindowEstimator::fillState(EstimatorOutput* out) const {
+  const Frame& f = *frames_.back();
+  out->p_WB = Eigen::Map<const Eigen::Vector3d>(f.pose.data());
+  out->q_WB = Eigen::Map<const Eigen::Quaterniond>(f.pose.data() + 3);
+  out->v_WB = Eigen::Map<const Eigen::Vector3d>(f.sb.data());
+  out->bias.gyro = Eigen::Map<const Eigen::Vector3d>(f.sb.data() + 3);
+  out->bias.accel = Eigen::Map<const Eigen::Vector3d>(f.sb.data() + 6);
+  out->is_keyframe = f.keyframe;
+  out->zero_velocity = f.zero_velocity;
+  out->num_frames = static_cast<int>(frames_.size());
+  out->num_keyframes = 0;
+  for (const auto& fr : frames_) out->num_keyframes += fr->keyframe ? 1 : 0;
+}
+
+EstimatorOutput SlidingWindowEstimator::addFrame(const FeatureFrame& input) {
+  const auto t_start = Clock::now();
+  EstimatorOutput out;
+  out.t = input.t;
+  out.frame_index = input.frame_index;
+  std::ostringstream msg;
+
+  auto reject = [&](const std::string& why) {
+    EstimatorOutput r = last_output_;
+    r.t = input.t;
+    r.frame_index = input.frame_index;
+    r.frame_accepted = false;
+    r.status = status();
+    r.message = why;
+    r.timings = EstimatorTimings{};
+    r.timings.total_ms = msSince(t_start);
+    return r;
+  };
+
+  if (have_last_frame_t_ && input.t <= last_frame_t_) {
+    std::ostringstream os;
+    os << "frame " << input.frame_index << " at t=" << input.t << " ns is " << (input.t == last_frame_t_ ? "a duplicate" : "older than")
+       << " the last frame (t=" << last_frame_t_ << " ns); skipped";
+    spdlog::warn("{}{}", kLog, os.str());
+    return reject(os.str());
+  }
+
+  // Parse features; bad observations are skipped, never trusted.
+  auto parse = [&]() {
+    auto f = std::make_unique<Frame>();
+    f->t = input.t;
+    f->frame_index = input.frame_index;
+    int invalid = 0, duplicate = 0;
+    for (const auto& o : input.features) {
+      if (!o.normalized.allFinite() || o.camera_index > 1) {
+        ++invalid;
+        continue;
+      }
+      auto& map = o.camera_index == 0 ? f->cam0 : f->cam1;
+      if (!map.emplace(o.track_id, o.normalized).second) ++duplicate;
+    }
+    std::ostringstream m;
+    if (invalid > 0) m << "skipped " << invalid << " feature observations with non-finite coordinates or bad camera index; ";
+    if (duplicate > 0) m << "skipped " << duplicate << " duplicated track ids; ";
+    if (f->cam0.empty()) m << "frame has no features, IMU-only propagation; ";
+    return std::make_pair(std::move(f), m.str());
+  };
+  auto [frame, parse_msg] = parse();
+  msg << parse_msg;
+
+  if (!initialized_) {
+    std::string init_msg;
+    if (!initialize(std::move(frame), &init_msg)) {
+      if (!init_msg.empty()) spdlog::debug("{}{}", kLog, init_msg);
+      return reject(msg.str() + init_msg);
+    }
+    msg << init_msg;
+    have_last_frame_t_ = true;
+    last_frame_t_ = input.t;
+    solve(&out);
+    if (options_.compute_covariance) computeCovariance(&out);
+    fillState(&out);
+    out.status = EstimatorStatus::kTracking;
+    out.frame_accepted = true;
+    out.message = msg.str();
+    out.timings.total_ms = msSince(t_start);
+    last_good_p_ = out.p_WB;
+    last_good_yaw_ = yawOf(out.q_WB);
+    last_output_ = out;
+    return out;
+  }
+
+  // Preintegrate from the newest frame.
+  auto t_stage = Clock::now();
+  Frame& prev = newest();
+  std::vector<ImuSample> samples;
+  double gap = 0;
+  std::string reset_reason;
+  if (!imu_.extract(prev.t, input.t, &samples, &gap)) {
+    if (imu_.empty() || imu_.lastTime() < input.t) {
+      std::ostringstream os;
+      os << "no IMU up to frame " << input.frame_index << " at t=" << input.t << " ns (IMU ends at "
+         << (imu_.empty() ? 0 : imu_.lastTime()) << " ns); frame skipped";
+      spdlog::warn("{}{}", kLog, os.str());
+      return reject(msg.str() + os.str());
+    }
+    reset_reason = "IMU history does not reach back to the previous frame";
+  } else if (gap > options_.max_imu_gap_s) {
+    std::ostringstream os;
+    os << "IMU gap of " << gap << " s between frames (max_imu_gap_s " << options_.max_imu_gap_s << ")";
+    reset_reason = os.str();
+  }
+  have_last_frame_t_ = true;
+  last_frame_t_ = input.t;
+
+  auto reinitialize = [&](const std::string& reason) {
+    reset(reason);
+    auto [fresh, ignored] = parse();
+    std::string init_msg;
+    EstimatorOutput r;
+    r.t = input.t;
+    r.frame_index = input.frame_index;
+    if (initialize(std::move(fresh), &init_msg)) {
+      solve(&r);
+      if (options_.compute_covariance) computeCovariance(&r);
+      fillState(&r);
+      r.frame_accepted = true;
+      last_good_p_ = r.p_WB;
+      last_good_yaw_ = yawOf(r.q_WB);
+    }
+    r.status = EstimatorStatus::kReset;
+    r.message = msg.str() + "reset: " + reason + "; " + init_msg;
+    r.timings.total_ms = msSince(t_start);
+    last_output_ = r;
+    return r;
+  };
+  if (!reset_reason.empty()) return reinitialize(reset_reason);
+
+  const ImuBias prev_bias{Eigen::Map<const Eigen::Vector3d>(prev.sb.data() + 3),
+                          Eigen::Map<const Eigen::Vector3d>(prev.sb.data() + 6)};
+  auto pre = std::make_unique<ImuPreintegrator>(prev_bias, imu_noise_);
+  for (const auto& s : samples) pre->integrate(s);
+  Eigen::Vector3d p_pred, v_pred;
+  Eigen::Quaterniond q_pred;
+  pre->predict(Eigen::Map<const Eigen::Vector3d>(prev.pose.data()), Eigen::Map<const Eigen::Quaterniond>(prev.pose.data() + 3),
+               Eigen::Map<const Eigen::Vector3d>(prev.sb.data()), prev_bias, gravity_, &p_pred, &q_pred, &v_pred);
+  frame->id = next_frame_id_++;
+  Eigen::Map<Eigen::Vector3d>(frame->pose.data()) = p_pred;
+  Eigen::Map<Eigen::Quaterniond>(frame->pose.data() + 3) = q_pred;
+  Eigen::Map<Eigen::Vector3d>(frame->sb.data()) = v_pred;
+  for (int i = 3; i < 9; ++i) frame->sb[static_cast<std::size_t>(i)] = prev.sb[static_cast<std::size_t>(i)];
+  frame->imu = std::move(pre);
+  Frame* prev_ptr = &prev;
+  frames_.push_back(std::move(frame));
+  out.timings.preintegration_ms = msSince(t_stage);
+
+  t_stage = Clock::now();
+  Frame& cur = newest();
+  createLandmarks(cur, &out.num_new_landmarks);
+  cur.keyframe = decideKeyframe(cur);
+  cur.zero_velocity = options_.zero_velocity_enabled && detectZeroVelocity(*prev_ptr, cur);
+  repropagateImu();
+  out.timings.setup_ms = msSince(t_stage);
+
+  solve(&out);
+  removeOutliers(&out);
+  for (const auto& [id, o] : cur.cam0) out.num_tracked_features += landmarks_.count(id) != 0 ? 1 : 0;
+  if (out.num_visual_residuals >= 10) last_vision_t_ = input.t;
+
+  const std::string failure = checkFailure(p_pred);
+  if (!failure.empty()) return reinitialize(failure);
+
+  t_stage = Clock::now();
+  if (options_.compute_covariance) computeCovariance(&out);
+  out.timings.covariance_ms = msSince(t_stage);
+  fillState(&out);
+  t_stage = Clock::now();
+  marginalize();
+  out.timings.marginalization_ms = msSince(t_stage);
+  imu_.dropBefore(input.t - fromSeconds(options_.init_window_s + 0.1));
+
+  out.status = EstimatorStatus::kTracking;
+  out.frame_accepted = true;
+  out.message = msg.str();
+  if (!out.message.empty()) spdlog::debug("{}frame {}: {}", kLog, input.frame_index, out.message);
+  out.timings.total_ms = msSince(t_start);
+  last_good_p_ = out.p_WB;
+  last_good_yaw_ = yawOf(out.q_WB);
+  last_output_ = out;
+  return out;
+}
+
+bool SlidingWindowEstimator::initialize(std::unique_ptr<Frame> frame, std::string* message) {
+  const Timestamp t = frame->t;
+  const Timestamp window = fromSeconds(options_.init_window_s);
+  if (imu_.empty() || imu_.lastTime() < t) {
+    *message = "waiting for IMU up to the frame time before initialising";
+    return false;
+  }
+  if (imu_.firstTime() > t - window) {
+    std::ostringstream os;
+    os << "waiting for " << options_.init_window_s << " s of IMU history before initialising";
+    *message = os.str();
+    return false;
+  }
+  const auto samples = imu_.between(t - window, t);
+  if (samples.size() < 10) {
+    *message = "too few IMU samples in the initialisation window";
+    return false;
+  }
+  std::vector<Eigen::Vector3d> gyro, accel;
+  Eigen::Vector3d mean_g = Eigen::Vector3d::Zero(), mean_a = Eigen::Vector3d::Zero();
+  for (const auto& s : samples) {
+    gyro.push_back(s.gyro);
+    accel.push_back(s.accel);
+    mean_g += s.gyro;
+    mean_a += s.accel;
+  }
+  mean_g /= static_cast<double>(samples.size());
+  mean_a /= static_cast<double>(samples.size());
+  const double std_g = stdDev(gyro).norm(), std_a = stdDev(accel).norm();
+  const bool still = std_g < options_.static_gyro_std_max && std_a < options_.static_accel_std_max;
+
+  // At rest the accelerometer measures R_WB^T (0, 0, g): that fixes roll and pitch; yaw is free
+  // (gauge) and continues from the last good estimate.
+  Eigen::Quaterniond q = Eigen::Quaterniond::FromTwoVectors(mean_a, Eigen::Vector3d::UnitZ());
+  q = Eigen::AngleAxisd(last_good_yaw_ - yawOf(q), Eigen::Vector3d::UnitZ()) * q;
+  q.normalize();
+  frame->id = next_frame_id_++;
+  Eigen::Map<Eigen::Vector3d>(frame->pose.data()) = last_good_p_;
+  Eigen::Map<Eigen::Quaterniond>(frame->pose.data() + 3) = q;
+  frame->sb.fill(0.0);
+  if (still) Eigen::Map<Eigen::Vector3d>(frame->sb.data() + 3) = mean_g;
+  frame->keyframe = true;
+  frame->has_speed_bias = true;
+
+  const double s_rp = still ? options_.init_roll_pitch_sigma : options_.init_roll_pitch_sigma_moving;
+  const double s_v = still ? options_.init_velocity_sigma_static : options_.init_velocity_sigma_moving;
+  const double s_bg = still ? options_.init_gyro_bias_sigma_static : options_.init_gyro_bias_sigma_moving;
+  prior_ = std::make_shared<MarginalizationPrior>();
+  prior_->blocks.push_back({frame->pose.data(), BlockKind::kPose, 7, 6, {frame->pose.begin(), frame->pose.end()}});
+  prior_->blocks.push_back({frame->sb.data(), BlockKind::kEuclidean, 9, 9, {frame->sb.begin(), frame->sb.end()}});
+  prior_->J = Eigen::MatrixXd::Zero(15, 15);
+  prior_->J.block<3, 3>(0, 0) = Eigen::Matrix3d::Identity() / options_.init_position_sigma;
+  // Body-frame rotation error mapped to world roll/pitch/yaw: dtheta_W = R_WB dtheta_B.
+  prior_->J.block<3, 3>(3, 3) =
+      Eigen::Vector3d(1.0 / s_rp, 1.0 / s_rp, 1.0 / options_.init_yaw_sigma).asDiagonal() * q.toRotationMatrix();
+  prior_->J.block<3, 3>(6, 6) = Eigen::Matrix3d::Identity() / s_v;
+  prior_->J.block<3, 3>(9, 9) = Eigen::Matrix3d::Identity() / s_bg;
+  prior_->J.block<3, 3>(12, 12) = Eigen::Matrix3d::Identity() / options_.init_accel_bias_sigma;
+  prior_->r = Eigen::VectorXd::Zero(15);
+
+  frames_.clear();
+  landmarks_.clear();
+  frames_.push_back(std::move(frame));
+  int created = 0;
+  createLandmarks(newest(), &created);
+  initialized_ = true;
+  last_vision_t_ = t;
+  std::ostringstream os;
+  const Eigen::Vector3d g_body = q.conjugate() * Eigen::Vector3d::UnitZ();
+  os << "initialised (" << (still ? "static" : "moving") << " start, gyro std " << std_g << " rad/s, accel std " << std_a
+     << " m/s^2, gravity in body " << g_body.transpose() << ", " << created << " stereo landmarks); ";
+  *message = os.str();
+  spdlog::info("{}{}", kLog, os.str());
+  return true;
+}
+
+bool SlidingWindowEstimator::triangulateStereo(const Eigen::Vector2d& n0, const Eigen::Vector2d& n1,
+                                               double* depth) const {
+  // d0 * b0 = R_C0C1 * (d1 * b1) + t_C0C1, least squares in (d0, d1).
+  const Eigen::Isometry3d T_C0C1 = T_C1C0_.inverse();
+  const Eigen::Vector3d b0(n0.x(), n0.y(), 1.0), b1(n1.x(), n1.y(), 1.0);
+  Eigen::Matrix<double, 3, 2> A;
+  A.col(0) = b0;
+  A.col(1) = -(T_C0C1.linear() * b1);
+  const Eigen::Vector2d d = A.colPivHouseholderQr().solve(T_C0C1.translation());
+  if (!(d[0] > options_.min_depth_m && d[0] < options_.max_depth_m && d[1] > 0)) return false;
+  const Eigen::Vector3d p_C1 = T_C1C0_ * (b0 * d[0]);
+  const double err_px = (p_C1.head<2>() / p_C1.z() - n1).norm() * focal_px_;
+  if (err_px > options_.outlier_threshold_px) return false;
+  const Eigen::Vector3d p_C1_far = T_C1C0_.linear() * b0;  // point at infinity
+  const double disparity_px = (p_C1_far.head<2>() / p_C1_far.z() - n1).norm() * focal_px_;
+  if (disparity_px < options_.min_stereo_disparity_px) return false;
+  *depth = d[0];
+  return true;
+}
+
+void SlidingWindowEstimator::createLandmarks(Frame& frame, int* created) {
+  for (const auto& [track, n0] : frame.cam0) {
+    if (landmarks_.count(track) != 0) continue;
+    const auto it = frame.cam1.find(track);
+    if (it == frame.cam1.end()) continue;
+    double depth = 0;
+    if (!triangulateStereo(n0, it->second, &depth)) continue;
+    Landmark lm;
+    lm.track_id = track;
+    lm.anchor_frame = frame.id;
+    lm.param = {n0.x(), n0.y(), 1.0 / depth};
+    landmarks_.emplace(track, lm);
+    ++*created;
+  }
+}
+
+bool SlidingWindowEstimator::decideKeyframe(const Frame& frame) const {
+  const Frame* kf = nullptr;
+  for (auto it = frames_.rbegin(); it != frames_.rend(); ++it)
+    if ((*it)->keyframe && it->get() != &frame) {
+      kf = it->get();
+      break;
+    }
+  if (kf == nullptr) return true;
+  int in_kf = 0, common = 0;
+  double parallax = 0;
+  for (const auto& [track, n] : kf->cam0) {
+    if (landmarks_.count(track) == 0) continue;
+    ++in_kf;
+    const auto it = frame.cam0.find(track);
+    if (it == frame.cam0.end()) continue;
+    ++common;
+    parallax += (it->second - n).norm() * focal_px_;
+  }
+  if (in_kf == 0 || common == 0) return true;
+  if (static_cast<double>(common) / in_kf < options_.keyframe_tracked_fraction) return true;
+  return parallax / common > options_.keyframe_parallax_px;
+}
+
+bool SlidingWindowEstimator::detectZeroVelocity(const Frame& prev, const Frame& cur) const {
+  const auto samples = imu_.between(prev.t, cur.t);
+  if (samples.size() < 3) return false;
+  std::vector<Eigen::Vector3d> g, a;
+  for (const auto& s : samples) {
+    g.push_back(s.gyro);
+    a.push_back(s.accel);
+  }
+  if (stdDev(g).norm() > options_.zero_velocity_gyro_std_max || stdDev(a).norm() > options_.zero_velocity_accel_std_max)
+    return false;
+  int common = 0;
+  double disparity = 0;
+  for (const auto& [track, n] : cur.cam0) {
+    const auto it = prev.cam0.find(track);
+    if (it == prev.cam0.end()) continue;
+    ++common;
+    disparity += (n - it->second).norm() * focal_px_;
+  }
+  return common >= 5 && disparity / common < options_.zero_velocity_max_disparity_px;
+}
+
+void SlidingWindowEstimator::repropagateImu() {
+  for (std::size_t i = 1; i < frames_.size(); ++i) {
+    Frame& f = *frames_[i];
+    if (!f.imu) continue;
+    const Frame& p = *frames_[i - 1];
+    const ImuBias b{Eigen::Map<const Eigen::Vector3d>(p.sb.data() + 3), Eigen::Map<const Eigen::Vector3d>(p.sb.data() + 6)};
+    if (f.imu->needsRepropagation(b, options_.repropagate_gyro_bias_change, options_.repropagate_accel_bias_change))
+      f.imu->repropagate(b);
+  }
+}
+
+bool SlidingWindowEstimator::landmarkPointWorld(const Landmark& lm, Eigen::Vector3d* p_W) const {
+  const Frame* a = nullptr;
+  for (const auto& f : frames_)
+    if (f->id == lm.anchor_frame) a = f.get();
+  if (a == nullptr || !(lm.param[2] > 0)) return false;
+  const Eigen::Vector3d p_B = T_BC0_ * (Eigen::Vector3d(lm.param[0], lm.param[1], 1.0) / lm.param[2]);
+  *p_W = Eigen::Map<const Eigen::Quaterniond>(a->pose.data() + 3) * p_B + Eigen::Map<const Eigen::Vector3d>(a->pose.data());
+  return true;
+}
+
+std::vector<Eigen::Vector3d> SlidingWindowEstimator::landmarkPositions() const {
+  std::vector<Eigen::Vector3d> out;
+  for (const auto& [id, lm] : landmarks_) {
+    Eigen::Vector3d p;
+    if (landmarkPointWorld(lm, &p)) out.push_back(p);
+  }
+  return out;
+}
+
+void SlidingWindowEstimator::solve(EstimatorOutput* out) {
+  const auto t0 = Clock::now();
+  records_.clear();
+  extra_costs_.clear();
+  problem_ = std::make_unique<ProblemHolder>();
+  ceres::Problem::Options popts;
+  popts.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  popts.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  popts.enable_fast_removal = false;
+  problem_->problem = std::make_unique<ceres::Problem>(popts);
+  ceres::Problem& problem = *problem_->problem;
+  auto add = [&](ceres::CostFunction* cost, ceres::LossFunction* loss, std::vector<double*> params, ResidualKind kind) {
+    problem.AddResidualBlock(cost, loss, params);
+    records_.push_back(ResidualRecord{cost, loss, std::move(params), kind});
+    return &records_.back();
+  };
+  records_.reserve(4096);
+
+  for (auto& f : frames_) {
+    problem.AddParameterBlock(f->pose.data(), 7, &pose_manifold_);
+    if (f->has_speed_bias) problem.AddParameterBlock(f->sb.data(), 9);
+  }
+  if (prior_) {
+    auto* cost = new MarginalizationFactor(prior_);
+    add(cost, nullptr, cost->parameterBlocks(), ResidualKind::kPrior);
+  }
+  for (std::size_t i = 1; i < frames_.size(); ++i) {
+    Frame& f = *frames_[i];
+    Frame& p = *frames_[i - 1];
+    if (f.imu && f.has_speed_bias && p.has_speed_bias)
+      add(ImuFactor::create(*f.imu, gravity_), nullptr, {p.pose.data(), p.sb.data(), f.pose.data(), f.sb.data()},
+          ResidualKind::kImu);
+  }
+  for (auto& f : frames_)
+    if (f->zero_velocity && f->has_speed_bias)
+      add(new ZeroVelocityFactor(options_.zero_velocity_sigma), nullptr, {f->sb.data()}, ResidualKind::kZeroVelocity);
+
+  const double scale = focal_px_ / options_.observation_sigma_px;
+  ceres::ParameterBlockOrdering* ordering = new ceres::ParameterBlockOrdering;
+  int n_landmarks = 0, n_visual = 0;
+  std::vector<ResidualRecord> pending;
+  for (auto& [track, lm] : landmarks_) {
+    Frame* anchor = frameById(lm.anchor_frame);
+    if (anchor == nullptr || !(lm.param[2] > 0)) continue;
+    pending.clear();
+    for (auto& f : frames_) {
+      for (int c = 0; c < 2; ++c) {
+        const auto& map = c == 0 ? f->cam0 : f->cam1;
+        const auto it = map.find(track);
+        if (it == map.end()) continue;
+        if (f.get() == anchor) {
+          pending.push_back(ResidualRecord{
+              new AnchorObservationFactor(it->second, c == 0 ? Eigen::Isometry3d::Identity() : T_C1C0_, scale),
+              loss_.get(), {lm.param.data()}, ResidualKind::kVisual, track, f->id, c});
+          continue;
+        }
+        auto* cost = new ReprojectionFactor(it->second, T_BC0_, c == 0 ? T_BC0_ : T_BC1_, scale);
+        Eigen::Vector3d p_C;
+        if (!cost->pointInCamera(anchor->pose.data(), f->pose.data(), lm.param.data(), &p_C)) {
+          delete cost;
+          continue;
+        }
+        pending.push_back(ResidualRecord{cost, loss_.get(), {anchor->pose.data(), f->pose.data(), lm.param.data()},
+                                         ResidualKind::kVisual, track, f->id, c});
+      }
+    }
+    // A landmark seen only in its anchor frame constrains no pose yet.
+    bool constrains_pose = false;
+    for (const auto& r : pending) constrains_pose |= r.params.size() > 1;
+    if (!constrains_pose) {
+      for (auto& r : pending) delete r.cost;
+      continue;
+    }
+    problem.AddParameterBlock(lm.param.data(), 3);
+    problem.SetParameterLowerBound(lm.param.data(), 2, 1e-4);
+    ordering->AddElementToGroup(lm.param.data(), 0);
+    ++n_landmarks;
+    for (auto& r : pending) {
+      problem.AddResidualBlock(r.cost, r.loss, r.params);
+      records_.push_back(r);
+      ++n_visual;
+    }
+  }
+  for (auto& f : frames_) {
+    ordering->AddElementToGroup(f->pose.data(), 1);
+    if (f->has_speed_bias) ordering->AddElementToGroup(f->sb.data(), 1);
+  }
+  out->num_landmarks = n_landmarks;
+  out->num_visual_residuals = n_visual;
+  out->timings.setup_ms += msSince(t0);
+
+  const auto t1 = Clock::now();
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::DENSE_SCHUR;
+  so.linear_solver_ordering.reset(ordering);
+  so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  so.max_num_iterations = options_.max_iterations;
+  so.max_solver_time_in_seconds = options_.max_solver_time_s;
+  so.num_threads = options_.num_threads;
+  so.logging_type = ceres::SILENT;
+  so.minimizer_progress_to_stdout = false;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  out->solver_iterations = static_cast<int>(summary.iterations.size()) - 1;
+  out->timings.solve_ms = msSince(t1);
+}
+
+void SlidingWindowEstimator::removeOutliers(EstimatorOutput* out) {
+  const double sigma = options_.observation_sigma_px;
+  std::unordered_set<std::uint64_t> to_erase;
+  for (auto& r : records_) {
+    if (r.kind != ResidualKind::kVisual || !r.valid) continue;
+    Eigen::Vector2d res;
+    const bool ok = r.cost->Evaluate(r.params.data(), res.data(), nullptr);
+    if (ok && res.norm() * sigma <= options_.outlier_threshold_px) continue;
+    r.valid = false;
+    ++out->num_outliers;
+    Frame* f = frameById(r.frame_id);
+    if (f != nullptr) (r.camera == 0 ? f->cam0 : f->cam1).erase(r.track_id);
+  }
+  for (const auto& [track, lm] : landmarks_) {
+    const double depth = lm.depth();
+    if (!(depth >= options_.min_depth_m && depth <= options_.max_depth_m)) to_erase.insert(track);
+  }
+  for (std::uint64_t t : to_erase) eraseLandmark(t);
+}
+
+void SlidingWindowEstimator::eraseLandmark(std::uint64_t track_id) {
+  for (auto& f : frames_) {
+    f->cam0.erase(track_id);
+    f->cam1.erase(track_id);
+  }
+  landmarks_.erase(track_id);
+  for (auto& r : records_)
+    if (r.kind == ResidualKind::kVisual && r.track_id == track_id) r.valid = false;
+}
+
+std::string SlidingWindowEstimator::checkFailure(const Eigen::Vector3d& p_pred) const {
+  const Frame& f = *frames_.back();
+  std::ostringstream os;
+  for (const auto& fr : frames_) {
+    for (double x : fr->pose)
+      if (!std::isfinite(x)) return "non-finite pose in the window";
+    for (double x : fr->sb)
+      if (!std::isfinite(x)) return "non-finite velocity or bias in the window";
+  }
+  const Eigen::Vector3d p = Eigen::Map<const Eigen::Vector3d>(f.pose.data());
+  const Eigen::Vector3d v = Eigen::Map<const Eigen::Vector3d>(f.sb.data());
+  const Eigen::Vector3d bg = Eigen::Map<const Eigen::Vector3d>(f.sb.data() + 3);
+  const Eigen::Vector3d ba = Eigen::Map<const Eigen::Vector3d>(f.sb.data() + 6);
+  if (v.norm() > options_.max_speed_mps) os << "speed " << v.norm() << " m/s exceeds max_speed_mps";
+  else if (bg.norm() > options_.max_gyro_bias) os << "gyro bias " << bg.norm() << " rad/s exceeds max_gyro_bias";
+  else if (ba.norm() > options_.max_accel_bias) os << "accel bias " << ba.norm() << " m/s^2 exceeds max_accel_bias";
+  else if ((p - p_pred).norm() > options_.max_position_jump_m)
+    os << "position moved " << (p - p_pred).norm() << " m away from the IMU prediction (max_position_jump_m)";
+  else if (toSeconds(f.t - last_vision_t_) > options_.max_time_without_vision_s)
+    os << "no visual constraints for " << toSeconds(f.t - last_vision_t_) << " s";
+  return os.str();
+}
+
+void SlidingWindowEstimator::computeCovariance(EstimatorOutput* out) {
+  Marginalizer m;
+  for (auto& f : frames_) {
+    m.addParameterBlock(f->pose.data(), BlockKind::kPose, 7);
+    if (f->has_speed_bias) m.addParameterBlock(f->sb.data(), BlockKind::kEuclidean, 9);
+  }
+  for (auto& [track, lm] : landmarks_) m.addParameterBlock(lm.param.data(), BlockKind::kLandmark, 3);
+  for (const auto& r : records_)
+    if (r.valid) m.addResidualBlock(r.cost, r.loss, r.params);
+  Eigen::MatrixXd cov;
+  try {
+    out->covariance_valid = m.marginalCovariance(newest().pose.data(), &cov);
+  } catch (const std::exception& e) {
+    spdlog::warn("{}covariance failed: {}", kLog, e.what());
+    out->covariance_valid = false;
+  }
+  if (out->covariance_valid) out->pose_covariance = cov;
+}
+
+void SlidingWindowEstimator::marginalizeWith(const std::vector<const ResidualRecord*>& records,
+                                             const std::set<const double*>& drop) {
+  Marginalizer m;
+  for (auto& f : frames_) {
+    m.addParameterBlock(f->pose.data(), BlockKind::kPose, 7);
+    if (f->has_speed_bias) m.addParameterBlock(f->sb.data(), BlockKind::kEuclidean, 9);
+  }
+  for (auto& [track, lm] : landmarks_) m.addParameterBlock(lm.param.data(), BlockKind::kLandmark, 3);
+  for (const auto* r : records) m.addResidualBlock(r->cost, r->loss, r->params);
+  try {
+    prior_ = m.marginalize(drop);
+  } catch (const std::exception& e) {
+    // Losing the prior loses information but never adds false information.
+    spdlog::warn("{}marginalisation failed ({}); prior dropped", kLog, e.what());
+    prior_.reset();
+  }
+  // The consumed residuals now live in the prior; a second marginalisation in the same frame must
+  // see the new prior instead of them.
+  for (const auto* r : records) const_cast<ResidualRecord*>(r)->valid = false;
+  if (prior_) {
+    auto cost = std::make_unique<MarginalizationFactor>(prior_);
+    records_.push_back(ResidualRecord{cost.get(), nullptr, cost->parameterBlocks(), ResidualKind::kPrior});
+    extra_costs_.push_back(std::move(cost));
+  }
+}
+
+bool SlidingWindowEstimator::reanchor(Landmark& lm, std::uint64_t leaving_frame) {
+  Eigen::Vector3d p_W;
+  if (!landmarkPointWorld(lm, &p_W)) return false;
+  for (auto& f : frames_) {
+    if (f->id == leaving_frame) continue;
+    const auto it = f->cam0.find(lm.track_id);
+    if (it == f->cam0.end()) continue;
+    const Eigen::Vector3d p_B =
+        Eigen::Map<const Eigen::Quaterniond>(f->pose.data() + 3).conjugate() * (p_W - Eigen::Map<const Eigen::Vector3d>(f->pose.data()));
+    const Eigen::Vector3d p_C = T_BC0_.inverse() * p_B;
+    if (!(p_C.z() >= options_.min_depth_m && p_C.z() <= options_.max_depth_m)) return false;
+    // The estimate moves to the new anchor unchanged; the new anchor's observations stay residuals.
+    lm.anchor_frame = f->id;
+    lm.param = {p_C.x() / p_C.z(), p_C.y() / p_C.z(), 1.0 / p_C.z()};
+    return true;
+  }
+  return false;
+}
+
+void SlidingWindowEstimator::marginalize() {
+  int n_imu = 0;
+  for (const auto& f : frames_) n_imu += f->has_speed_bias ? 1 : 0;
+  if (n_imu > options_.imu_window_size) marginalizeOldestImuFrame();
+  int n_kf = 0;
+  for (const auto& f : frames_) n_kf += f->has_speed_bias ? 0 : 1;
+  if (n_kf > options_.keyframe_window_size) marginalizeOldestKeyframe();
+}
+
+void SlidingWindowEstimator::marginalizeOldestImuFrame() {
+  std::size_t io = 0;
+  while (io < frames_.size() && !frames_[io]->has_speed_bias) ++io;
+  if (io + 1 >= frames_.size()) return;
+  Frame& fo = *frames_[io];
+  Frame& next = *frames_[io + 1];
+  std::set<const double*> drop{fo.sb.data()};
+  if (!fo.keyframe) drop.insert(fo.pose.data());
+  // Non-visual factors of the leaving states; a non-keyframe's visual observations are dropped
+  // (information lost, never invented), which keeps landmarks out of the prior.
+  std::vector<const ResidualRecord*> records;
+  for (const auto& r : records_) {
+    if (!r.valid || r.kind == ResidualKind::kVisual) continue;
+    bool touches = r.kind == ResidualKind::kPrior;  // always carried over
+    for (double* p : r.params) touches |= drop.count(p) != 0;
+    if (touches) records.push_back(&r);
+  }
+  marginalizeWith(records, drop);
+  next.imu.reset();
+  if (fo.keyframe) {
+    fo.has_speed_bias = false;
+    return;
+  }
+  std::vector<std::uint64_t> lost;
+  for (auto& [track, lm] : landmarks_)
+    if (lm.anchor_frame == fo.id && !reanchor(lm, fo.id)) lost.push_back(track);
+  for (auto t : lost) eraseLandmark(t);
+  for (auto& r : records_)
+    if (r.frame_id == fo.id || (r.params.size() > 1 && (r.params[0] == fo.pose.data() || r.params[1] == fo.pose.data())))
+      r.valid = false;
+  frames_.erase(frames_.begin() + static_cast<std::ptrdiff_t>(io));
+}
+
+void SlidingWindowEstimator::marginalizeOldestKeyframe() {
+  Frame& k0 = *frames_.front();
+  if (k0.has_speed_bias) return;
+  std::unordered_set<std::uint64_t> alive;
+  for (const auto& f : frames_) {
+    if (!f->has_speed_bias) continue;
+    for (const auto& [t, n] : f->cam0) alive.insert(t);
+    for (const auto& [t, n] : f->cam1) alive.insert(t);
+  }
+  std::unordered_set<std::uint64_t> dead;
+  std::set<const double*> drop{k0.pose.data()};
+  auto consider = [&](std::uint64_t track) {
+    const auto it = landmarks_.find(track);
+    if (it == landmarks_.end() || alive.count(track) != 0) return;
+    if (dead.insert(track).second) drop.insert(it->second.param.data());
+  };
+  for (const auto& [t, n] : k0.cam0) consider(t);
+  for (const auto& [t, n] : k0.cam1) consider(t);
+  // Landmarks seen only by keyframes leave with this keyframe, all their observations folded
+  // into the prior; landmarks still tracked lose this keyframe's observations only.
+  std::vector<const ResidualRecord*> records;
+  for (const auto& r : records_) {
+    if (!r.valid) continue;
+    bool take = r.kind == ResidualKind::kPrior;
+    if (r.kind == ResidualKind::kVisual) {
+      take = dead.count(r.track_id) != 0;
+    } else {
+      for (double* p : r.params) take |= p == k0.pose.data();
+    }
+    if (take) records.push_back(&r);
+  }
+  marginalizeWith(records, drop);
+  for (auto t : dead) eraseLandmark(t);
+  std::vector<std::uint64_t> lost;
+  for (auto& [track, lm] : landmarks_)
+    if (lm.anchor_frame == k0.id && !reanchor(lm, k0.id)) lost.push_back(track);
+  for (auto t : lost) eraseLandmark(t);
+  for (auto& r : records_)
+    if (r.frame_id == k0.id || (r.params.size() > 1 && (r.params[0] == k0.pose.data() || r.params[1] == k0.pose.data())))
+      r.valid = false;
+  frames_.pop_front();
+}
+
+void SlidingWindowEstimator::reset(const std::string& reason) {
+  spdlog::warn("{}reset at t={} ns: {} (re-initialising at the last good position and yaw)", kLog,
+               frames_.empty() ? 0 : frames_.back()->t, reason);
+  records_.clear();
+  extra_costs_.clear();
+  problem_.reset();
+  frames_.clear();
+  landmarks_.clear();
+  prior_.reset();
+  initialized_ = false;
+  ++reset_count_;
+}
+
+}  // namespace mcvio::estimator
