@@ -124,11 +124,10 @@ int main(int argc, char** argv) {
         cdr.putString(frame);
         for (double v : {x, y, z, qx, qy, qz, qw}) cdr.put(v);
         value = "{\"header\": {\"stamp\": {\"sec\": " + std::to_string(sec) +
-                ", \"nanosec\": " + std::to_string(nsec) + "}, \"frame_id\": " +
-                jsonString(frame) + "}, \"pose\": {\"position\": {\"x\": " + num(x) +
-                ", \"y\": " + num(y) + ", \"z\": " + num(z) + "}, \"orientation\": {\"x\": " +
-                num(qx) + ", \"y\": " + num(qy) + ", \"z\": " + num(qz) + ", \"w\": " + num(qw) +
-                "}}}";
+                ", \"nanosec\": " + std::to_string(nsec) + "}, \"frame_id\": " + jsonString(frame) +
+                "}, \"pose\": {\"position\": {\"x\": " + num(x) + ", \"y\": " + num(y) +
+                ", \"z\": " + num(z) + "}, \"orientation\": {\"x\": " + num(qx) +
+                ", \"y\": " + num(qy) + ", \"z\": " + num(qz) + ", \"w\": " + num(qw) + "}}}";
       }
       w.write(topic, log, pub, cdr.bytes().data(), cdr.bytes().size());
       json << (first ? "" : ",\n") << "{\"bag\": \"" << mcvio::bag::toString(c)

@@ -20,7 +20,8 @@ constexpr int kMessages = 64;  // 64 MiB per iteration
 
 std::filesystem::path benchDir() {
   const char* env = std::getenv("MCVIO_BENCH_DIR");
-  auto p = std::filesystem::path(env ? env : "/tmp") / ("mcvio_bag_bench_" + std::to_string(getpid()));
+  auto p =
+      std::filesystem::path(env ? env : "/tmp") / ("mcvio_bag_bench_" + std::to_string(getpid()));
   std::filesystem::create_directories(p);
   return p;
 }
@@ -116,9 +117,18 @@ void BM_BagWriterMcap(benchmark::State& state) {
 }  // namespace
 
 // Args: payload kind (0 random, 1 image-like), fsync at end.
-BENCHMARK(BM_PlainSequentialWrite)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_PlainSequentialWrite)
+    ->ArgsProduct({{0, 1}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 // Args: compression (0 none, 1 zstd, 2 lz4), payload kind, fsync at end, CRCs on.
-BENCHMARK(BM_BagWriterMcap)->ArgsProduct({{0, 1, 2}, {0, 1}, {0, 1}, {1}})->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_BagWriterMcap)->ArgsProduct({{0}, {0}, {0, 1}, {0}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_BagWriterMcap)
+    ->ArgsProduct({{0, 1, 2}, {0, 1}, {0, 1}, {1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_BagWriterMcap)
+    ->ArgsProduct({{0}, {0}, {0, 1}, {0}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 BENCHMARK_MAIN();

@@ -25,7 +25,8 @@ int main(int argc, char** argv) {
       o.chunk_size = 200;
       {
         mcvio::bag::BagWriter w(bag, o);
-        mcvio::bag::TopicInfo t{"/a", "std_msgs/msg/String", "cdr", "- history: 1\n", "string data\n", ""};
+        mcvio::bag::TopicInfo t{
+            "/a", "std_msgs/msg/String", "cdr", "- history: 1\n", "string data\n", ""};
         w.addTopic(t);
         for (int i = 0; i < 6; ++i) {
           const std::string s(static_cast<std::size_t>(20 + i * 7), static_cast<char>('a' + i));
@@ -34,8 +35,12 @@ int main(int argc, char** argv) {
       }
       for (const auto& e : fs::directory_iterator(bag)) {
         const auto ext = e.path().extension();
-        if (ext == ".mcap") fs::copy_file(e.path(), fs::path(argv[1]) / (bag.filename().string() + ".mcap"), fs::copy_options::overwrite_existing);
-        if (ext == ".db3") fs::copy_file(e.path(), fs::path(argv[2]) / (bag.filename().string() + ".db3"), fs::copy_options::overwrite_existing);
+        if (ext == ".mcap")
+          fs::copy_file(e.path(), fs::path(argv[1]) / (bag.filename().string() + ".mcap"),
+                        fs::copy_options::overwrite_existing);
+        if (ext == ".db3")
+          fs::copy_file(e.path(), fs::path(argv[2]) / (bag.filename().string() + ".db3"),
+                        fs::copy_options::overwrite_existing);
       }
     }
   }

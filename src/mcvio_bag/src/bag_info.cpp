@@ -24,7 +24,8 @@ std::string humanSize(std::uint64_t bytes) {
 std::string seconds(Timestamp ns) {
   std::ostringstream os;
   const bool neg = ns < 0;
-  const std::uint64_t a = neg ? static_cast<std::uint64_t>(-(ns + 1)) + 1 : static_cast<std::uint64_t>(ns);
+  const std::uint64_t a =
+      neg ? static_cast<std::uint64_t>(-(ns + 1)) + 1 : static_cast<std::uint64_t>(ns);
   os << (neg ? "-" : "") << a / 1000000000ull << "." << std::setw(9) << std::setfill('0')
      << a % 1000000000ull;
   return os.str();
@@ -77,8 +78,9 @@ std::string formatBagInfo(const BagMetadata& m, std::uint64_t bag_size_bytes) {
   for (std::size_t i = 0; i < m.topics_with_message_count.size(); ++i) {
     const auto& t = m.topics_with_message_count[i];
     if (i > 0) os << std::string(w, ' ');
-    os << "Topic: " << t.topic.name << " | Type: " << t.topic.type << " | Count: "
-       << t.message_count << " | Serialization Format: " << t.topic.serialization_format << "\n";
+    os << "Topic: " << t.topic.name << " | Type: " << t.topic.type
+       << " | Count: " << t.message_count
+       << " | Serialization Format: " << t.topic.serialization_format << "\n";
   }
   return os.str();
 }

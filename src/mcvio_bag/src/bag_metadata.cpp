@@ -110,8 +110,8 @@ BagMetadata bagMetadataFromYaml(const std::string& yaml, const std::string& sour
   m.version = field<int>(info, "version", w, source);
   if (m.version < kMinMetadataVersion) {
     throw InputError(source + ": metadata version " + std::to_string(m.version) +
-                     " is older than the oldest supported (" +
-                     std::to_string(kMinMetadataVersion) + ")");
+                     " is older than the oldest supported (" + std::to_string(kMinMetadataVersion) +
+                     ")");
   }
   m.storage_identifier = field<std::string>(info, "storage_identifier", w, source);
   m.duration = timeField(info, "duration", "nanoseconds", w, source);
@@ -161,8 +161,7 @@ BagMetadata bagMetadataFromYaml(const std::string& yaml, const std::string& sour
       const std::string fw = w + "files[" + std::to_string(i) + "].";
       FileInformation f;
       f.path = field<std::string>(files[i], "path", fw, source);
-      f.starting_time =
-          timeField(files[i], "starting_time", "nanoseconds_since_epoch", fw, source);
+      f.starting_time = timeField(files[i], "starting_time", "nanoseconds_since_epoch", fw, source);
       f.duration = timeField(files[i], "duration", "nanoseconds", fw, source);
       f.message_count = field<std::uint64_t>(files[i], "message_count", fw, source);
       m.files.push_back(std::move(f));

@@ -17,7 +17,8 @@ BagReader::BagReader(const std::filesystem::path& bag, BagReaderOptions options)
     } else if (ext == ".db3") {
       metadata_.storage_identifier = "sqlite3";
     } else {
-      throw InputError(bag.string() + ": unknown storage (expected a bag directory, .mcap or .db3)");
+      throw InputError(bag.string() +
+                       ": unknown storage (expected a bag directory, .mcap or .db3)");
     }
     metadata_.relative_file_paths.push_back(bag.filename().string());
     files.push_back(bag);

@@ -53,7 +53,8 @@ BagMetadata BagReindexer::reindex(const std::filesystem::path& bag_dir,
     throw InputError(bag_dir.string() + ": no .mcap or .db3 storage files to reindex");
   }
   if (!mcaps.empty() && !dbs.empty()) {
-    throw InputError(bag_dir.string() + ": holds both .mcap and .db3 files; which storage is meant?");
+    throw InputError(bag_dir.string() +
+                     ": holds both .mcap and .db3 files; which storage is meant?");
   }
   auto files = mcaps.empty() ? dbs : mcaps;
   std::sort(files.begin(), files.end(), [](const auto& a, const auto& b) {
@@ -81,10 +82,10 @@ BagMetadata BagReindexer::reindex(const std::filesystem::path& bag_dir,
       const McapRepairReport rep = McapRepairer::repair(path);
       if (log) {
         log->push_back(path.filename().string() +
-                       (rep.was_complete ? ": intact"
-                                         : ": repaired, kept " + std::to_string(rep.kept_bytes) +
-                                               " bytes, dropped " +
-                                               std::to_string(rep.dropped_bytes)) +
+                       (rep.was_complete
+                            ? ": intact"
+                            : ": repaired, kept " + std::to_string(rep.kept_bytes) +
+                                  " bytes, dropped " + std::to_string(rep.dropped_bytes)) +
                        ", " + std::to_string(rep.chunks) + " chunks, " +
                        std::to_string(rep.messages) + " messages");
       }

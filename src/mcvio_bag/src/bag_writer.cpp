@@ -39,8 +39,8 @@ BagWriter::~BagWriter() {
 }
 
 void BagWriter::openFile() {
-  const std::string stem = dir_.filename().empty() ? dir_.parent_path().filename().string()
-                                                   : dir_.filename().string();
+  const std::string stem =
+      dir_.filename().empty() ? dir_.parent_path().filename().string() : dir_.filename().string();
   const std::string ext = options_.storage == "mcap" ? ".mcap" : ".db3";
   const std::string name = stem + "_" + std::to_string(metadata_.relative_file_paths.size()) + ext;
   if (options_.storage == "mcap") {
@@ -136,10 +136,11 @@ void BagWriter::write(const BagMessage& m) {
 void BagWriter::write(std::size_t topic_index, Timestamp log_time, Timestamp publish_time,
                       const std::uint8_t* data, std::size_t size) {
   if (closed_) throw std::logic_error("BagWriter::write after close");
-  if (topic_index >= topics_.size()) throw std::invalid_argument("BagWriter::write: bad topic index");
+  if (topic_index >= topics_.size())
+    throw std::invalid_argument("BagWriter::write: bad topic index");
   if (current_.message_count > 0) {
-    const bool too_big = options_.max_bagfile_size > 0 &&
-                         file_->sizeBytes() >= options_.max_bagfile_size;
+    const bool too_big =
+        options_.max_bagfile_size > 0 && file_->sizeBytes() >= options_.max_bagfile_size;
     const bool too_long = options_.max_bagfile_duration > 0 &&
                           log_time - current_.starting_time >= options_.max_bagfile_duration;
     if (too_big || too_long) {

@@ -37,9 +37,16 @@ BagWriterOptions BagWriterOptions::fromYaml(const std::string& yaml, const std::
   BagWriterOptions o;
   if (root.IsNull()) return o;
   if (!root.IsMap()) throw InputError(source + ": bag writer options must be a YAML map");
-  static const std::set<std::string> known = {
-      "storage", "compression", "compression_level", "chunk_size", "max_bagfile_size",
-      "max_bagfile_duration", "fsync", "crc", "ros_distro", "custom_data"};
+  static const std::set<std::string> known = {"storage",
+                                              "compression",
+                                              "compression_level",
+                                              "chunk_size",
+                                              "max_bagfile_size",
+                                              "max_bagfile_duration",
+                                              "fsync",
+                                              "crc",
+                                              "ros_distro",
+                                              "custom_data"};
   for (const auto& kv : root) {
     const auto key = kv.first.as<std::string>();
     if (known.count(key) == 0) throw InputError(source + ": unknown key '" + key + "'");

@@ -16,9 +16,12 @@ Compression compressionFromString(const std::string& name) {
 
 std::string mcapCompressionName(Compression c) {
   switch (c) {
-    case Compression::Zstd: return "zstd";
-    case Compression::Lz4: return "lz4";
-    case Compression::None: break;
+    case Compression::Zstd:
+      return "zstd";
+    case Compression::Lz4:
+      return "lz4";
+    case Compression::None:
+      break;
   }
   return "";
 }

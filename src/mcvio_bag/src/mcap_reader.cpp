@@ -98,17 +98,17 @@ void McapReader::load(McapReadMode mode) {
       fail(17 + e.offset, std::string("malformed Header record: ") + e.what());
     }
   }
-  const bool has_footer =
-      size_ >= 8 + mcap::kRecordPrefix + mcap::kFooterAndMagic &&
-      std::memcmp(data_ + size_ - 8, mcap::kMagic, 8) == 0 &&
-      data_[size_ - mcap::kFooterAndMagic] == mcap::kFooter &&
-      readU64(data_ + size_ - mcap::kFooterAndMagic + 1) == 20;
+  const bool has_footer = size_ >= 8 + mcap::kRecordPrefix + mcap::kFooterAndMagic &&
+                          std::memcmp(data_ + size_ - 8, mcap::kMagic, 8) == 0 &&
+                          data_[size_ - mcap::kFooterAndMagic] == mcap::kFooter &&
+                          readU64(data_ + size_ - mcap::kFooterAndMagic + 1) == 20;
   if (mode == McapReadMode::Recover) {
     linearScan(mode, size_);
   } else {
     if (!has_footer) {
-      fail(size_, "truncated or unfinished MCAP file (no Footer record and trailing magic; "
-                  "`mcvio bag reindex` recovers its complete chunks)");
+      fail(size_,
+           "truncated or unfinished MCAP file (no Footer record and trailing magic; "
+           "`mcvio bag reindex` recovers its complete chunks)");
     }
     const std::uint64_t footer_pos = size_ - mcap::kFooterAndMagic;
     const std::uint8_t* f = data_ + footer_pos + mcap::kRecordPrefix;
@@ -175,8 +175,8 @@ void McapReader::addChannel(std::uint64_t pos, const std::uint8_t* p, std::uint6
       return;
     }
   }
-  if (c.schema_id != 0 &&
-      std::none_of(schemas_.begin(), schemas_.end(), [&](const auto& s) { return s.id == c.schema_id; })) {
+  if (c.schema_id != 0 && std::none_of(schemas_.begin(), schemas_.end(),
+                                       [&](const auto& s) { return s.id == c.schema_id; })) {
     fail(pos, "Channel " + std::to_string(c.id) + " refers to unknown schema " +
                   std::to_string(c.schema_id));
   }
@@ -441,7 +441,8 @@ void McapReader::loadSummary(std::uint64_t footer_pos, std::uint64_t summary_sta
       if (len > summary_start - off - mcap::kRecordPrefix) fail(off, "truncated Message Index");
       try {
         ByteReader r(data_ + off + mcap::kRecordPrefix, len);
-        if (r.u16() != ch) fail(off, "Message Index is for another channel than its Chunk Index says");
+        if (r.u16() != ch)
+          fail(off, "Message Index is for another channel than its Chunk Index says");
         ByteReader e = r.sub32("records");
         if (e.remaining() % 16 != 0) fail(off, "Message Index entries are not 16-byte pairs");
         auto& list = chunks_.back().message_index[ch];
@@ -558,8 +559,8 @@ FileStatistics McapReader::statistics() const {
 }
 
 std::uint64_t McapReader::unchunkedMessages() const {
-  return static_cast<std::uint64_t>(
-      std::count_if(entries_.begin(), entries_.end(), [](const Entry& e) { return e.chunk == kNoChunk; }));
+  return static_cast<std::uint64_t>(std::count_if(
+      entries_.begin(), entries_.end(), [](const Entry& e) { return e.chunk == kNoChunk; }));
 }
 
 }  // namespace mcvio::bag

@@ -56,7 +56,8 @@ McapRepairReport McapRepairer::repair(const std::filesystem::path& path) {
     stats.message_start_time = static_cast<std::uint64_t>(s.start_time);
     stats.message_end_time = static_cast<std::uint64_t>(s.end_time);
     for (const auto& c : chunks) {
-      for (const auto& [ch, entries] : c.message_index) stats.channel_message_counts[ch] += entries.size();
+      for (const auto& [ch, entries] : c.message_index)
+        stats.channel_message_counts[ch] += entries.size();
     }
     report.messages = s.message_count;
     if (r.unchunkedMessages() > 0) {
@@ -70,7 +71,8 @@ McapRepairReport McapRepairer::repair(const std::filesystem::path& path) {
     for (const auto& [ch, entries] : last.message_index) {
       if (last.message_index_offsets.count(ch)) continue;
       last.message_index_offsets[ch] = out.position();
-      detail::writeMcapRecord(out, mcap::kMessageIndex, detail::mcapMessageIndexContent(ch, entries));
+      detail::writeMcapRecord(out, mcap::kMessageIndex,
+                              detail::mcapMessageIndexContent(ch, entries));
     }
     last.message_index_length = out.position() - (last.start_offset + last.length);
   }

@@ -6,7 +6,8 @@
 
 namespace mcvio::bag::detail {
 
-void writeMcapRecord(FileOutput& out, std::uint8_t opcode, const std::vector<std::uint8_t>& content) {
+void writeMcapRecord(FileOutput& out, std::uint8_t opcode,
+                     const std::vector<std::uint8_t>& content) {
   std::uint8_t prefix[mcap::kRecordPrefix];
   prefix[0] = opcode;
   const std::uint64_t len = content.size();

@@ -16,7 +16,8 @@ struct McapStatistics {
   std::map<std::uint16_t, std::uint64_t> channel_message_counts;
 };
 
-void writeMcapRecord(FileOutput& out, std::uint8_t opcode, const std::vector<std::uint8_t>& content);
+void writeMcapRecord(FileOutput& out, std::uint8_t opcode,
+                     const std::vector<std::uint8_t>& content);
 std::vector<std::uint8_t> mcapSchemaContent(const mcap::Schema& s);
 std::vector<std::uint8_t> mcapChannelContent(const mcap::Channel& c);
 std::vector<std::uint8_t> mcapMessageIndexContent(

@@ -4,8 +4,8 @@
 
 #include "byte_io.hpp"
 #include "file_output.hpp"
-#include "mcvio/bag/crc32.hpp"
 #include "mcap_summary.hpp"
+#include "mcvio/bag/crc32.hpp"
 
 namespace mcvio::bag {
 
@@ -115,22 +115,21 @@ void McapWriter::flush() {
   flushChunk();
 }
 
-std::uint64_t McapWriter::sizeBytes() const {
-  return out_->position() + chunk_.size();
-}
+std::uint64_t McapWriter::sizeBytes() const { return out_->position() + chunk_.size(); }
 
 void McapWriter::flushChunk(const std::uint8_t* tail, std::size_t tail_size) {
   if (chunk_.empty()) return;
   const bool crcs = options_.compute_crcs;
   const std::uint32_t head_crc = crcs ? Crc32::update(0, chunk_.data(), chunk_.size()) : 0;
   const std::uint32_t tail_crc = crcs && tail_size > 0 ? Crc32::update(0, tail, tail_size) : 0;
-  const std::uint32_t crc =
-      !crcs ? 0 : tail_size > 0 ? Crc32::combine(head_crc, tail_crc, tail_size) : head_crc;
+  const std::uint32_t crc = !crcs           ? 0
+                            : tail_size > 0 ? Crc32::combine(head_crc, tail_crc, tail_size)
+                                            : head_crc;
   const std::vector<std::uint8_t>* records = &chunk_;
   if (options_.compression != Compression::None) {
     compressed_.clear();
-    Codec::compress(options_.compression, chunk_.data(), chunk_.size(),
-                    options_.compression_level, compressed_);
+    Codec::compress(options_.compression, chunk_.data(), chunk_.size(), options_.compression_level,
+                    compressed_);
     records = &compressed_;
   }
   mcap::ChunkInfo info;

@@ -12,8 +12,8 @@ namespace {
 
 const std::set<std::string>& primitives() {
   static const std::set<std::string> p = {
-      "bool",   "byte",   "char",  "float32", "float64", "int8",  "uint8",  "int16",
-      "uint16", "int32",  "uint32", "int64",  "uint64",  "string", "wstring", "time", "duration"};
+      "bool",  "byte",   "char",  "float32", "float64", "int8",    "uint8", "int16",   "uint16",
+      "int32", "uint32", "int64", "uint64",  "string",  "wstring", "time",  "duration"};
   return p;
 }
 
@@ -103,7 +103,8 @@ MessageField parseLine(const std::string& root, int lineno, const std::string& r
   const auto le = type.find("<=");
   if (le != std::string::npos) {
     const std::string base = type.substr(0, le);
-    if ((base != "string" && base != "wstring") || !parseSize(type.substr(le + 2), f.string_bound)) {
+    if ((base != "string" && base != "wstring") ||
+        !parseSize(type.substr(le + 2), f.string_bound)) {
       fail(root, lineno, "bad bounded type '" + type + "'");
     }
     type = base;
@@ -122,7 +123,8 @@ MessageField parseLine(const std::string& root, int lineno, const std::string& r
       int parts = 0;
       while (true) {
         const auto slash = t.find('/', start);
-        const std::string part = t.substr(start, slash == std::string::npos ? slash : slash - start);
+        const std::string part =
+            t.substr(start, slash == std::string::npos ? slash : slash - start);
         if (!isIdentifier(part)) return false;
         ++parts;
         if (slash == std::string::npos) break;
@@ -142,10 +144,12 @@ MessageField parseLine(const std::string& root, int lineno, const std::string& r
     ++j;
   }
   f.name = rest.substr(0, j);
-  if (!isIdentifier(f.name)) fail(root, lineno, "missing or invalid field name after '" + type + "'");
+  if (!isIdentifier(f.name))
+    fail(root, lineno, "missing or invalid field name after '" + type + "'");
   std::string tail = trim(rest.substr(j));
   if (!tail.empty() && tail[0] == '=') {
-    if (f.is_array || f.is_complex) fail(root, lineno, "constant '" + f.name + "' must be a primitive");
+    if (f.is_array || f.is_complex)
+      fail(root, lineno, "constant '" + f.name + "' must be a primitive");
     f.is_constant = true;
     std::string value = trim(tail.substr(1));
     if (f.type != "string" && f.type != "wstring") value = trim(value.substr(0, value.find('#')));
@@ -153,7 +157,8 @@ MessageField parseLine(const std::string& root, int lineno, const std::string& r
     f.value = value;
   } else {
     tail = trim(tail.substr(0, tail.find('#')));
-    if (!tail.empty() && f.is_complex) fail(root, lineno, "nested field '" + f.name + "' cannot have a default");
+    if (!tail.empty() && f.is_complex)
+      fail(root, lineno, "nested field '" + f.name + "' cannot have a default");
     f.value = tail;
   }
   return f;
@@ -181,10 +186,12 @@ std::vector<MessageType> MessageDefinitionParser::parse(const std::string& type_
     }
     if (expect_msg) {
       if (t.empty()) continue;
-      if (t.rfind("MSG:", 0) != 0) fail(type_name, lineno, "expected 'MSG: pkg/Name' after a separator line");
+      if (t.rfind("MSG:", 0) != 0)
+        fail(type_name, lineno, "expected 'MSG: pkg/Name' after a separator line");
       Section s;
       s.name = trim(t.substr(4));
-      if (s.name.find('/') == std::string::npos) fail(type_name, lineno, "nested type '" + s.name + "' has no package");
+      if (s.name.find('/') == std::string::npos)
+        fail(type_name, lineno, "nested type '" + s.name + "' has no package");
       sections.push_back(std::move(s));
       expect_msg = false;
       continue;
@@ -217,9 +224,8 @@ std::vector<MessageType> MessageDefinitionParser::parse(const std::string& type_
   for (const auto& mt : types) {
     for (const auto& f : mt.fields) {
       if (f.is_complex && defined.count(f.type) == 0) {
-        throw InputError("message definition of '" + type_name + "': field '" + f.name +
-                         "' of '" + mt.name + "' uses type '" + f.type +
-                         "' whose definition is not included");
+        throw InputError("message definition of '" + type_name + "': field '" + f.name + "' of '" +
+                         mt.name + "' uses type '" + f.type + "' whose definition is not included");
       }
     }
   }

@@ -67,7 +67,8 @@ SqliteReader::SqliteReader(const std::filesystem::path& path, Compression messag
     while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
       const std::string table = columnText(st, 0);
       tables.insert(table);
-      if (table == "topics" && columnText(st, 1).find("type_description_hash") != std::string::npos) {
+      if (table == "topics" &&
+          columnText(st, 1).find("type_description_hash") != std::string::npos) {
         has_hash = true;
       }
     }
@@ -104,7 +105,8 @@ SqliteReader::SqliteReader(const std::filesystem::path& path, Compression messag
       t.serialization_format = columnText(st, 3);
       t.offered_qos_profiles = columnText(st, 4);
       if (has_hash) t.type_description_hash = columnText(st, 5);
-      if (auto it = definitions.find(t.type); it != definitions.end()) t.message_definition = it->second;
+      if (auto it = definitions.find(t.type); it != definitions.end())
+        t.message_definition = it->second;
       topics_.push_back(std::move(t));
     }
     sqlite3_finalize(st);

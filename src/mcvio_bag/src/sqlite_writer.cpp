@@ -31,8 +31,8 @@ void execBound(sqlite3* db, const char* sql, const std::vector<std::string>& arg
     throw std::runtime_error(where + ": sqlite: " + sqlite3_errmsg(db));
   }
   for (std::size_t i = 0; i < args.size(); ++i) {
-    sqlite3_bind_text(st, static_cast<int>(i + 1), args[i].data(),
-                      static_cast<int>(args[i].size()), SQLITE_TRANSIENT);
+    sqlite3_bind_text(st, static_cast<int>(i + 1), args[i].data(), static_cast<int>(args[i].size()),
+                      SQLITE_TRANSIENT);
   }
   const int rc = sqlite3_step(st);
   sqlite3_finalize(st);

@@ -72,8 +72,8 @@ TopicInfo poseStampedTopic(const std::string& name) {
 }
 
 std::filesystem::path freshPath(const std::string& name) {
-  const auto base = std::filesystem::temp_directory_path() /
-                    ("mcvio_bag_test_" + std::to_string(::getpid()));
+  const auto base =
+      std::filesystem::temp_directory_path() / ("mcvio_bag_test_" + std::to_string(::getpid()));
   std::filesystem::create_directories(base);
   const auto p = base / name;
   std::filesystem::remove_all(p);

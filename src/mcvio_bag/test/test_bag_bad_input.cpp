@@ -71,12 +71,14 @@ TEST(BadInput, UnknownStorage) {
   BagMetadata md = readBagMetadata(dir);
   md.storage_identifier = "rosbag_v2";
   writeBagMetadata(dir, md);
-  expectInputError([&] { BagReader r(dir); }, {"metadata.yaml", "unknown storage_identifier 'rosbag_v2'"});
+  expectInputError([&] { BagReader r(dir); },
+                   {"metadata.yaml", "unknown storage_identifier 'rosbag_v2'"});
 }
 
 TEST(BadInput, MalformedMetadataYaml) {
   const auto dir = smallBag("bad_yaml", "mcap");
-  std::ofstream(dir / "metadata.yaml") << "rosbag2_bagfile_information:\n  version: 8\n  storage_identifier: [\n";
+  std::ofstream(dir / "metadata.yaml")
+      << "rosbag2_bagfile_information:\n  version: 8\n  storage_identifier: [\n";
   expectInputError([&] { BagReader r(dir); }, {"metadata.yaml", "line"});
   std::ofstream(dir / "metadata.yaml") << "rosbag2_bagfile_information:\n  version: 8\n";
   expectInputError([&] { BagReader r(dir); }, {"metadata.yaml", "storage_identifier"});
@@ -115,8 +117,9 @@ TEST(BadInput, BadChunkCrc) {
   auto b = slurp(f);
   b[chunk.records_offset + 40] ^= 0x5A;  // a payload byte of an uncompressed chunk
   spit(f, b);
-  expectInputError([&] { test::readAll(dir); },
-                   {"bad_crc_0.mcap", "bad CRC", "byte offset " + std::to_string(chunk.start_offset)});
+  expectInputError(
+      [&] { test::readAll(dir); },
+      {"bad_crc_0.mcap", "bad CRC", "byte offset " + std::to_string(chunk.start_offset)});
 }
 
 TEST(BadInput, CorruptCompressedChunk) {
@@ -128,7 +131,8 @@ TEST(BadInput, CorruptCompressedChunk) {
   for (std::uint64_t i = 0; i < 8; ++i) b[chunk.records_offset + i] ^= 0xFF;
   spit(f, b);
   expectInputError([&] { test::readAll(dir); },
-                   {"bad_zstd_0.mcap", "does not decompress", "byte offset " + std::to_string(chunk.start_offset)});
+                   {"bad_zstd_0.mcap", "does not decompress",
+                    "byte offset " + std::to_string(chunk.start_offset)});
 }
 
 TEST(BadInput, BadSummaryCrc) {
@@ -137,7 +141,8 @@ TEST(BadInput, BadSummaryCrc) {
   auto b = slurp(f);
   b[b.size() - 60] ^= 0x01;  // inside the summary offsets
   spit(f, b);
-  expectInputError([&] { BagReader r(dir); }, {"bad_summary_0.mcap", "bad summary CRC", "byte offset"});
+  expectInputError([&] { BagReader r(dir); },
+                   {"bad_summary_0.mcap", "bad summary CRC", "byte offset"});
 }
 
 TEST(BadInput, SchemaThatDoesNotParse) {
@@ -154,8 +159,9 @@ TEST(BadInput, SchemaThatDoesNotParse) {
     w.write(0, 1, 1, 0, d, 4);
     w.close();
   }
-  expectInputError([&] { McapReader r(dir / "bad_schema_0.mcap"); },
-                   {"bad_schema_0.mcap", "schema does not parse", "geometry_msgs/Point", "byte offset"});
+  expectInputError(
+      [&] { McapReader r(dir / "bad_schema_0.mcap"); },
+      {"bad_schema_0.mcap", "schema does not parse", "geometry_msgs/Point", "byte offset"});
   // The writer refuses it up front.
   BagWriter w(test::freshPath("bad_schema_writer"));
   TopicInfo t = test::stringTopic("/x");
@@ -222,14 +228,16 @@ TEST(BadInput, ForgedChunkSizeIsRejectedBeforeAllocating) {
     const std::uint64_t huge = 3ull << 30;
     std::memcpy(b.data() + chunk.start_offset + 9 + 16, &huge, 8);  // uncompressed_size
     std::memset(b.data() + b.size() - 37 + 9, 0, 8);  // footer: no summary -> linear scan
-    std::ofstream(f, std::ios::binary | std::ios::trunc).write(b.data(), static_cast<std::streamsize>(b.size()));
+    std::ofstream(f, std::ios::binary | std::ios::trunc)
+        .write(b.data(), static_cast<std::streamsize>(b.size()));
     try {
       McapReader r(f);
       ADD_FAILURE() << "forged chunk accepted";
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("does not decompress"), std::string::npos) << e.what();
       EXPECT_NE(std::string(e.what()).find("byte offset " + std::to_string(chunk.start_offset)),
-                std::string::npos) << e.what();
+                std::string::npos)
+          << e.what();
     }
   }
 }

@@ -34,7 +34,8 @@ TEST(BagMetadata, YamlRoundTrip) {
   EXPECT_EQ(r.starting_time, m.starting_time);
   EXPECT_EQ(r.duration, 5);
   ASSERT_EQ(r.topics_with_message_count.size(), 1u);
-  EXPECT_EQ(r.topics_with_message_count[0].topic.offered_qos_profiles, t.topic.offered_qos_profiles);
+  EXPECT_EQ(r.topics_with_message_count[0].topic.offered_qos_profiles,
+            t.topic.offered_qos_profiles);
   EXPECT_EQ(r.topics_with_message_count[0].topic.type_description_hash, "RIHS01_00");
   EXPECT_EQ(r.files.at(0).message_count, 7u);
   EXPECT_EQ(r.custom_data.at("recorder"), "mcvio");
@@ -50,7 +51,8 @@ TEST(BagMetadata, ReadsVersion9QosListsAndRejectsOldVersions) {
       "        name: /a\n        type: std_msgs/msg/String\n        serialization_format: cdr\n"
       "        offered_qos_profiles:\n          - history: keep_last\n            depth: 10\n"
       "        type_description_hash: RIHS01_ab\n      message_count: 1\n"
-      "  compression_format: \"\"\n  compression_mode: \"\"\n  relative_file_paths:\n    - a_0.mcap\n"
+      "  compression_format: \"\"\n  compression_mode: \"\"\n  relative_file_paths:\n    - "
+      "a_0.mcap\n"
       "  files:\n    - path: a_0.mcap\n      starting_time:\n        nanoseconds_since_epoch: 3\n"
       "      duration:\n        nanoseconds: 10\n      message_count: 1\n  custom_data: ~\n"
       "  ros_distro: rolling\n";

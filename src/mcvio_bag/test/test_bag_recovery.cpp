@@ -115,7 +115,7 @@ TEST(Recovery, UnclosedWritersInAChildProcess) {
       for (int i = 0; i < 100; ++i) writeMessage(w, i);
       w.flush();
       writeMessage(w, 100);  // smaller than a chunk: buffered, never persisted
-      _exit(0);  // no close(), no destructors: like a kill after the flush
+      _exit(0);              // no close(), no destructors: like a kill after the flush
     }
     int status = 0;
     waitpid(pid, &status, 0);

@@ -98,13 +98,13 @@ TEST_P(RoundTrip, EveryMessageComesBackInTimeOrder) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    StorageByCompression, RoundTrip,
-    ::testing::Combine(::testing::Values("mcap", "sqlite3"),
-                       ::testing::Values(Compression::None, Compression::Zstd, Compression::Lz4)),
-    [](const auto& info) {
-      return std::get<0>(info.param) + "_" + toString(std::get<1>(info.param));
-    });
+INSTANTIATE_TEST_SUITE_P(StorageByCompression, RoundTrip,
+                         ::testing::Combine(::testing::Values("mcap", "sqlite3"),
+                                            ::testing::Values(Compression::None, Compression::Zstd,
+                                                              Compression::Lz4)),
+                         [](const auto& info) {
+                           return std::get<0>(info.param) + "_" + toString(std::get<1>(info.param));
+                         });
 
 TEST(BagReader, TopicFilterSelectsOnlyThoseTopics) {
   for (const std::string storage : {"mcap", "sqlite3"}) {
@@ -188,7 +188,8 @@ TEST(BagWriter, McapBigMessagesWithAndWithoutCrcs) {
     EXPECT_GT(single, 20u);
     // A linear scan (no summary) checks the chunk CRCs and sees the same messages.
     std::ifstream in(dir / (name + "_0.mcap"), std::ios::binary);
-    std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in),
+                                    std::istreambuf_iterator<char>()};
     std::memset(bytes.data() + bytes.size() - 37 + 9, 0, 8);  // footer summary_start = 0
     McapReader linear(bytes, name);
     EXPECT_FALSE(linear.usedSummary());
@@ -233,7 +234,8 @@ TEST(BagInfo, FormatsLikeRos2BagInfo) {
 
 TEST(BagWriterOptions, LoadsFromYamlAndNamesBadKeys) {
   const auto o = BagWriterOptions::fromYaml(
-      "storage: sqlite3\ncompression: lz4\nchunk_size: 4096\nmax_bagfile_duration: 2.5\ncrc: false\n",
+      "storage: sqlite3\ncompression: lz4\nchunk_size: 4096\nmax_bagfile_duration: 2.5\ncrc: "
+      "false\n",
       "t.yaml");
   EXPECT_FALSE(o.crc);
   EXPECT_EQ(o.storage, "sqlite3");

@@ -6,9 +6,9 @@ namespace mcvio::bag {
 
 /// What McapRepairer did to one file.
 struct McapRepairReport {
-  bool was_complete = false;          ///< The file was intact; nothing changed.
-  std::uint64_t kept_bytes = 0;       ///< Data section bytes kept.
-  std::uint64_t dropped_bytes = 0;    ///< Trailing bytes cut (partial records, old summary).
+  bool was_complete = false;        ///< The file was intact; nothing changed.
+  std::uint64_t kept_bytes = 0;     ///< Data section bytes kept.
+  std::uint64_t dropped_bytes = 0;  ///< Trailing bytes cut (partial records, old summary).
   std::uint64_t chunks = 0;
   std::uint64_t messages = 0;
 };

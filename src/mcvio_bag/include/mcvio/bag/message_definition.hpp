@@ -7,7 +7,7 @@ namespace mcvio::bag {
 
 /// One line of a .msg definition: a field or a constant.
 struct MessageField {
-  std::string type;         ///< Base type: a primitive ("float64", "string") or "pkg/Name".
+  std::string type;  ///< Base type: a primitive ("float64", "string") or "pkg/Name".
   std::string name;
   bool is_complex = false;  ///< A nested message type.
   bool is_array = false;
