@@ -274,8 +274,8 @@ InteropMessages InteropMessages::make() {
   return m;
 }
 
-std::string InteropMessages::toJson(const std::string& node_namespace,
-                                    const std::string& node_name) const {
+std::string InteropMessages::toJson(const std::string& node_namespace, const std::string& node_name,
+                                    const std::string& participant_gid) const {
   const auto topic = [](const char* name, const char* type, const std::string& message) {
     return object({{"name", quoted(name)}, {"type", quoted(type)}, {"message", message}});
   };
@@ -286,6 +286,7 @@ std::string InteropMessages::toJson(const std::string& node_namespace,
   topics += ",\n  " + topic("/tf", "tf2_msgs/msg/TFMessage", json(tf)) + "\n]";
   return object({{"node_namespace", quoted(node_namespace)},
                  {"node_name", quoted(node_name)},
+                 {"participant_gid", quoted(participant_gid)},
                  {"topics", topics}}) +
          "\n";
 }

@@ -25,10 +25,12 @@ struct InteropMessages {
   /// Builds the messages; the same call always gives the same messages.
   static InteropMessages make();
 
-  /// The peer's expected-messages document:
-  /// {"node_namespace", "node_name", "topics": [{"name", "type", "message"}]}, ROS field names,
-  /// doubles printed with 17 significant digits, byte arrays as arrays of numbers.
-  std::string toJson(const std::string& node_namespace, const std::string& node_name) const;
+  /// The peer's expected-messages document: {"node_namespace", "node_name", "participant_gid",
+  /// "topics": [{"name", "type", "message"}]}, ROS field names, doubles printed with 17
+  /// significant digits, byte arrays as arrays of numbers. `participant_gid` is the hex of the
+  /// publishing participant's 16-byte ROS 2 GID, so the peer ignores other participants.
+  std::string toJson(const std::string& node_namespace, const std::string& node_name,
+                     const std::string& participant_gid) const;
 };
 
 }  // namespace mcvio::interop

@@ -1,6 +1,6 @@
 // interop_talker: publishes one deterministic message on each interop topic through mcvio_dds,
 // as the ROS 2 node "interop_talker", every ~100 ms until SIGTERM/SIGINT. Before publishing it
-// writes the exact messages to a JSON file that the independent Node.js peer (peer.js) compares
+// writes the exact messages (and its participant's GID) to a JSON file that the independent Node.js peer (peer.js) compares
 // field by field with what it decodes off the wire.
 //
 //   interop_talker --domain <0..232> --out <expected.json> [--period-ms <ms>]
@@ -14,6 +14,7 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "interop_messages.hpp"
 #include "mcvio/dds/node.hpp"
@@ -81,6 +82,16 @@ void writeAtomically(const std::string& path, const std::string& text) {
   if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error("cannot rename " + tmp + " to " + path);
 }
 
+std::string hex(const std::vector<std::uint8_t>& bytes) {
+  static const char* kDigits = "0123456789abcdef";
+  std::string out;
+  for (const std::uint8_t b : bytes) {
+    out += kDigits[b >> 4];
+    out += kDigits[b & 0xf];
+  }
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -92,13 +103,12 @@ int main(int argc, char** argv) {
   const std::string kNamespace = "/";
   const auto messages = mcvio::interop::InteropMessages::make();
   try {
-    writeAtomically(options.out_path, messages.toJson(kNamespace, kNodeName));
-
     mcvio::dds::ParticipantOptions participant_options = mcvio::dds::ParticipantOptions::fromEnvironment();
     participant_options.domain_id = options.domain_id;
     participant_options.name = kNodeName;
     const auto participant = mcvio::dds::Participant::create(participant_options);
     const auto node = participant->createNode(kNodeName, kNamespace);
+    writeAtomically(options.out_path, messages.toJson(kNamespace, kNodeName, hex(participant->gid())));
 
     using mcvio::dds::QosProfile;
     auto image = node->createPublisher<sensor_msgs::msg::dds_::Image_>("/interop/image", QosProfile::sensorData());

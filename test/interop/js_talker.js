@@ -261,6 +261,7 @@ async function main() {
   const expected = {
     node_namespace: "/",
     node_name: NODE_NAME,
+    participant_gid: rtps.makeGuid(prefix, rtps.EntityIdBuiltin.Participant),
     topics: topics.map((t) => ({ name: t.name, type: t.type, message: t.message })),
   };
   if (opts.tamper) {

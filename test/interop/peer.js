@@ -89,7 +89,8 @@ function parseArgs(argv) {
   return opts;
 }
 
-// The talker's JSON: {node_namespace, node_name, topics: [{name, type, message}]}.
+// The talker's JSON: {node_namespace, node_name, participant_gid?, topics: [{name, type, message}]}.
+// participant_gid (hex of the 16-byte ROS 2 GID) pins the talker's participant when given.
 function loadExpected(path) {
   let doc;
   try {
@@ -99,6 +100,9 @@ function loadExpected(path) {
   }
   if (typeof doc.node_name !== "string" || typeof doc.node_namespace !== "string") {
     throw new Error(`${path}: node_name and node_namespace must be strings`);
+  }
+  if (doc.participant_gid !== undefined && !/^[0-9a-f]{32}$/.test(doc.participant_gid)) {
+    throw new Error(`${path}: participant_gid must be 32 lower-case hex digits`);
   }
   if (!Array.isArray(doc.topics) || doc.topics.length === 0) {
     throw new Error(`${path}: topics must be a non-empty array`);
@@ -198,6 +202,11 @@ async function main() {
   for (const t of topics.values()) typeHash(t.rosType, msgsCommon.ros2jazzy);
   const discovery = { subscribed: false, samples: 0, writers: [], nodeFound: undefined };
   const participantsSeen = new Map();
+  // With the talker's participant GID known, anything else on the domain (another test that
+  // drew the same random domain) is ignored instead of being compared against our JSON.
+  const fromTalker = (guidPrefix) =>
+    expected?.participant_gid == undefined ||
+    rtps.makeGuid(guidPrefix, rtps.EntityIdBuiltin.Participant) === expected.participant_gid;
   const writersSeen = new Map();
   const failures = [];
 
@@ -259,6 +268,10 @@ async function main() {
     if (opts.list) {
       return;
     }
+    if (!fromTalker(w.guidPrefix)) {
+      log(`  (ignored: not the talker's participant ${expected.participant_gid})`);
+      return;
+    }
     if (w.topicName === DISCOVERY_TOPIC) {
       discovery.writers.push(w);
       if (w.typeName !== DISCOVERY_DDS_TYPE) {
@@ -304,6 +317,9 @@ async function main() {
   participant.on("userData", (data) => {
     const topicName = data.subscription.topicName;
     const payload = data.serializedData;
+    if (!fromTalker(data.publication.guidPrefix)) {
+      return;
+    }
     if (topicName === DISCOVERY_TOPIC) {
       discovery.samples++;
       let info;
