@@ -62,7 +62,10 @@ class Painter {
  public:
   Painter(Canvas& c, std::uint64_t seed) : c_(c), rng_(seed) {}
 
-  int uniformInt(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng_); }
+  /// Uniform in [lo, hi]; lo when the range is empty (tiny textures shrink every scale).
+  int uniformInt(int lo, int hi) {
+    return hi <= lo ? lo : std::uniform_int_distribution<int>(lo, hi)(rng_);
+  }
   float uniform(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(rng_); }
   bool chance(double p) { return std::bernoulli_distribution(p)(rng_); }
 
@@ -165,7 +168,7 @@ void paintTiles(Canvas& c, Painter& p) {
       const float shade = base + p.uniform(-35.0f, 35.0f);
       c.rect(i * t, j * t, t, t, shade);
       if (p.chance(0.25)) {  // a patterned tile
-        const int cell = t / (2 * p.uniformInt(1, 3));
+        const int cell = std::max(1, t / (2 * p.uniformInt(1, 3)));
         c.checker(i * t, j * t, t / cell, t / cell, cell, shade, p.contrasting(shade, 40.0f));
       }
     }

@@ -104,8 +104,14 @@ Simulator::Simulator(SimulatorOptions options) : options_(std::move(options)) {
     imu_ = std::move(seq.samples);
     ground_truth_ = std::move(seq.ground_truth);
   }
-  for (int c = 0; c < 2; ++c)
-    renderer_[c] = std::make_unique<CameraRenderer>(rig_.camera(c), options_.threads);
+}
+
+const CameraRenderer& Simulator::renderer(int camera) const {
+  std::call_once(renderers_built_, [this] {
+    for (int c = 0; c < 2; ++c)
+      renderer_[c] = std::make_unique<CameraRenderer>(rig_.camera(c), options_.threads);
+  });
+  return *renderer_[camera];
 }
 
 Eigen::Isometry3d Simulator::bodyPose(Timestamp t) const {
@@ -136,9 +142,9 @@ StereoRender Simulator::renderFrame(std::size_t index) const {
   settings.noise_sigma = options_.pixel_noise_sigma;
   RenderResult r0, r1;
   settings.noise_seed = mixSeed(options_.seed, 2 * index + 100);
-  renderer_[0]->render(world_.scene, t, T_WB, settings, &r0);
+  renderer(0).render(world_.scene, t, T_WB, settings, &r0);
   settings.noise_seed = mixSeed(options_.seed, 2 * index + 101);
-  renderer_[1]->render(world_.scene, t, T_WB, settings, &r1);
+  renderer(1).render(world_.scene, t, T_WB, settings, &r1);
   out.label = labelFor(t, r0);
   out.cam0 = r0.image;
   out.cam1 = r1.image;

@@ -42,7 +42,7 @@ void addRoom(SceneBuilder& b, SceneBody& body, const Vector3d& lo, const Vector3
              bool door_px, double door_y0, double door_y1, double door_h) {
   const Vector3d s = hi - lo;
   b.quad(body, lo, kX, kY, s.x(), s.y(), TextureStyle::kTiles, 0.008);                    // floor
-  b.quad(body, {lo.x(), lo.y(), hi.z()}, kX, kY, s.x(), s.y(), TextureStyle::kClutter, 0.01);  // ceiling
+  b.quad(body, {lo.x(), lo.y(), hi.z()}, kX, kY, s.x(), s.y(), TextureStyle::kTiles, 0.006);  // ceiling
   const TextureStyle styles[] = {TextureStyle::kPosters, TextureStyle::kBricks, TextureStyle::kClutter};
   auto style = [&] { return styles[static_cast<int>(b.uniform(0, 3)) % 3]; };
   b.quad(body, lo, kX, kZ, s.x(), s.z(), style(), 0.005);                        // -y wall
@@ -113,7 +113,7 @@ void buildOffice(SceneBuilder& b, Scene& scene, const std::vector<Vector3d>& pat
   const double len = 9.0, cw = 2.6, ch = door_h + 0.3;
   const Vector3d clo(hi.x(), c.y() - cw / 2, lo.z()), chi(hi.x() + len, c.y() + cw / 2, lo.z() + ch);
   b.quad(world, clo, kX, kY, len, cw, TextureStyle::kTiles, 0.008);
-  b.quad(world, {clo.x(), clo.y(), chi.z()}, kX, kY, len, cw, TextureStyle::kClutter, 0.01);
+  b.quad(world, {clo.x(), clo.y(), chi.z()}, kX, kY, len, cw, TextureStyle::kTiles, 0.006);
   b.quad(world, clo, kX, kZ, len, ch, TextureStyle::kPosters, 0.005);
   b.quad(world, {clo.x(), chi.y(), clo.z()}, kX, kZ, len, ch, TextureStyle::kBricks, 0.005);
   b.quad(world, {chi.x(), clo.y(), clo.z()}, kY, kZ, cw, ch, TextureStyle::kPosters, 0.004);
@@ -204,7 +204,7 @@ void buildVehicle(SceneBuilder& b, Scene& scene, const std::vector<Vector3d>& pa
   SceneBody street;
   street.name = "street";
   const double x0 = lo.x() - 30.0, x1 = hi.x() + std::abs(travel) + 60.0;
-  b.quad(street, {x0, -14.0, ground}, kX, kY, x1 - x0, 28.0, TextureStyle::kClutter, 0.02);
+  b.quad(street, {x0, -14.0, ground}, kX, kY, x1 - x0, 28.0, TextureStyle::kTiles, 0.006);
   for (int side = -1; side <= 1; side += 2) {
     for (double x = x0; x < x1;) {
       const double len = b.uniform(6.0, 16.0), setback = b.uniform(0.0, 2.5), h = b.uniform(5.0, 12.0);
@@ -339,9 +339,17 @@ SimulatedWorld WorldGenerator::generate(const Inputs& in) {
       person.ride = RideProfile(onset, duration, side, len);
       person.visible_from = onset;
       person.visible_until = onset + duration;
-      b.box(person, start + Vector3d(-0.2, -0.2, 0), start + Vector3d(0.2, 0.2, 0.85), TextureStyle::kClutter, 0.002);
-      b.box(person, start + Vector3d(-0.23, -0.23, 0.85), start + Vector3d(0.23, 0.23, 1.5), TextureStyle::kTiles, 0.0015);
-      b.box(person, start + Vector3d(-0.1, -0.1, 1.52), start + Vector3d(0.1, 0.1, 1.78), TextureStyle::kPosters, 0.001);
+      // Legs, torso, arms and head: a person-sized silhouette with clothes-like texture.
+      auto part = [&](double x0, double y0, double z0, double x1, double y1, double z1, TextureStyle st, double texel) {
+        b.box(person, start + Vector3d(x0, y0, z0), start + Vector3d(x1, y1, z1), st, texel);
+      };
+      part(-0.17, -0.08, 0.0, -0.03, 0.08, 0.86, TextureStyle::kBricks, 0.0015);
+      part(0.03, -0.08, 0.0, 0.17, 0.08, 0.86, TextureStyle::kBricks, 0.0015);
+      part(-0.22, -0.13, 0.86, 0.22, 0.13, 1.48, TextureStyle::kClutter, 0.0015);
+      part(-0.32, -0.06, 0.9, -0.23, 0.06, 1.45, TextureStyle::kTiles, 0.0015);
+      part(0.23, -0.06, 0.9, 0.32, 0.06, 1.45, TextureStyle::kTiles, 0.0015);
+      part(-0.05, -0.05, 1.48, 0.05, 0.05, 1.54, TextureStyle::kPosters, 0.001);
+      part(-0.1, -0.11, 1.54, 0.1, 0.11, 1.78, TextureStyle::kPosters, 0.001);
       w.conflict_bodies = {w.scene.addBody(std::move(person))};
       break;
     }

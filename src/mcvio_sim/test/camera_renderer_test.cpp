@@ -155,5 +155,22 @@ TEST(MipmappedTexture, FarSurfacesSampleCoarseLevelsWithoutAliasing) {
   EXPECT_GT(hi - lo, 60.0f);
 }
 
+TEST(MipmappedTexture, EveryStyleBuildsAtEverySizeAndHasCorners) {
+  for (int size : {16, 64, 256}) {
+    for (int style = 0; style < 4; ++style) {
+      const MipmappedTexture tex = MipmappedTexture::generate(static_cast<TextureStyle>(style), size, 5);
+      EXPECT_EQ(tex.size(), size);
+      if (size < 256) continue;
+      // Many sharp steps between neighbouring texels: edges and corners, not smooth gradients.
+      const auto& px = tex.level(0);
+      int steps = 0;
+      for (int y = 0; y < size; ++y)
+        for (int x = 0; x + 1 < size; ++x) steps += std::abs(px[y * size + x] - px[y * size + x + 1]) > 25;
+      EXPECT_GT(steps, size * size / 100) << "style " << style;
+    }
+  }
+  EXPECT_THROW(MipmappedTexture::generate(TextureStyle::kTiles, 100, 1), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace mcvio::sim

@@ -1,6 +1,7 @@
 #pragma once
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -73,7 +74,10 @@ class Simulator {
   std::vector<ImuSample> imu_;
   std::vector<dataset::GroundTruthState> ground_truth_;
   std::vector<Timestamp> frame_times_;
-  std::unique_ptr<CameraRenderer> renderer_[2];
+  // Built on first use: feature-level simulation never renders.
+  const CameraRenderer& renderer(int camera) const;
+  mutable std::once_flag renderers_built_;
+  mutable std::unique_ptr<CameraRenderer> renderer_[2];
 };
 
 /// The `mcvio sim` entry point: Simulator(options).writeDataset().
