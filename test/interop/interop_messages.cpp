@@ -287,7 +287,9 @@ std::string InteropMessages::toJson(const std::string& node_namespace, const std
   return object({{"node_namespace", quoted(node_namespace)},
                  {"node_name", quoted(node_name)},
                  {"participant_gid", quoted(participant_gid)},
-                 {"topics", topics}}) +
+                 {"topics", topics},
+                 {"subscriptions", "[" + object({{"name", quoted(kCommandTopic)},
+                                                 {"type", quoted("std_msgs/msg/String")}}) + "]"}}) +
          "\n";
 }
 

@@ -12,6 +12,9 @@
 
 namespace mcvio::interop {
 
+/// The talker also subscribes (std_msgs/msg/String) so the peer can check how a reader appears.
+inline constexpr const char* kCommandTopic = "/interop/command";
+
 /// One deterministic message per interop topic. Every field holds a non-default value (so a field
 /// the wire drops or shifts cannot compare equal by accident) and the doubles are not short
 /// decimals (so the JSON has to carry all 17 significant digits).
@@ -26,7 +29,8 @@ struct InteropMessages {
   static InteropMessages make();
 
   /// The peer's expected-messages document: {"node_namespace", "node_name", "participant_gid",
-  /// "topics": [{"name", "type", "message"}]}, ROS field names, doubles printed with 17
+  /// "topics": [{"name", "type", "message"}], "subscriptions": [{"name", "type"}]}, ROS field names,
+  /// doubles printed with 17
   /// significant digits, byte arrays as arrays of numbers. `participant_gid` is the hex of the
   /// publishing participant's 16-byte ROS 2 GID, so the peer ignores other participants.
   std::string toJson(const std::string& node_namespace, const std::string& node_name,

@@ -1,10 +1,12 @@
 // interop_talker: publishes one deterministic message on each interop topic through mcvio_dds,
-// as the ROS 2 node "interop_talker", every ~100 ms until SIGTERM/SIGINT. Before publishing it
-// writes the exact messages (and its participant's GID) to a JSON file that the independent Node.js peer (peer.js) compares
-// field by field with what it decodes off the wire.
+// as the ROS 2 node "interop_talker", every ~100 ms until SIGTERM/SIGINT, and subscribes to
+// /interop/command (std_msgs/String) so the node has a reader on the graph too. Before
+// publishing it writes the exact messages (and its participant's GID) to a JSON file that the
+// independent Node.js peer (peer.js) compares field by field with what it decodes off the wire.
 //
 //   interop_talker --domain <0..232> --out <expected.json> [--period-ms <ms>]
 
+#include <atomic>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -17,6 +19,7 @@
 #include <vector>
 
 #include "interop_messages.hpp"
+#include "std_msgs/msg/String.h"
 #include "mcvio/dds/node.hpp"
 #include "mcvio/dds/participant.hpp"
 #include "mcvio/dds/qos_profile.hpp"
@@ -117,6 +120,12 @@ int main(int argc, char** argv) {
         "/interop/camera_info", QosProfile::transientLocal(1));
     auto odometry = node->createPublisher<nav_msgs::msg::dds_::Odometry_>("/interop/odometry", QosProfile::defaults());
     auto tf = node->createPublisher<tf2_msgs::msg::dds_::TFMessage_>("/tf", QosProfile::defaults());
+    std::atomic<long> commands{0};
+    auto command = node->createSubscription<std_msgs::msg::dds_::String_>(
+        mcvio::interop::kCommandTopic, QosProfile::defaults(), [&commands](const std_msgs::msg::dds_::String_& msg) {
+          std::cout << "interop_talker: command \"" << msg.data() << "\"" << std::endl;
+          ++commands;
+        });
 
     std::cout << "interop_talker: domain " << options.domain_id << ", node " << node->fullName()
               << ", publishing every " << options.period_ms << " ms" << std::endl;
@@ -134,7 +143,8 @@ int main(int argc, char** argv) {
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(options.period_ms));
     }
-    std::cout << "interop_talker: stopping after " << rounds << " rounds" << std::endl;
+    std::cout << "interop_talker: stopping after " << rounds << " rounds, " << commands << " commands received"
+              << std::endl;
   } catch (const std::exception& e) {
     std::cerr << "interop_talker: " << e.what() << "\n";
     return 1;

@@ -89,7 +89,8 @@ function parseArgs(argv) {
   return opts;
 }
 
-// The talker's JSON: {node_namespace, node_name, participant_gid?, topics: [{name, type, message}]}.
+// The talker's JSON: {node_namespace, node_name, participant_gid?, topics: [{name, type, message}],
+// subscriptions?: [{name, type}]}.
 // participant_gid (hex of the 16-byte ROS 2 GID) pins the talker's participant when given.
 function loadExpected(path) {
   let doc;
@@ -106,6 +107,11 @@ function loadExpected(path) {
   }
   if (!Array.isArray(doc.topics) || doc.topics.length === 0) {
     throw new Error(`${path}: topics must be a non-empty array`);
+  }
+  for (const [i, x] of (doc.subscriptions ?? []).entries()) {
+    if (typeof x.name !== "string" || typeof x.type !== "string") {
+      throw new Error(`${path}: subscriptions[${i}] needs string name and string type`);
+    }
   }
   for (const [i, t] of doc.topics.entries()) {
     if (typeof t.name !== "string" || typeof t.type !== "string" || typeof t.message !== "object") {
@@ -195,12 +201,21 @@ async function main() {
       result: undefined, // "ok" or a list of differences
     });
   }
+  // Per expected subscription of the talker (a reader ROS 2 tools must see): its DDS names.
+  const subscriptions = new Map();
+  for (const x of expected?.subscriptions ?? []) {
+    subscriptions.set(rosTopicToDds(x.name), {
+      rosName: x.name, rosType: x.type, ddsType: rosTypeToDds(x.type), readers: [],
+    });
+  }
   const discoveryReader = new MessageReader(
     rmwDdsCommon.participantEntitiesInfoDefinitions(),
   );
   // Fail before any networking if a type cannot be hashed (e.g. missing from msgs-common).
-  for (const t of topics.values()) typeHash(t.rosType, msgsCommon.ros2jazzy);
-  const discovery = { subscribed: false, samples: 0, writers: [], nodeFound: undefined };
+  for (const t of [...topics.values(), ...subscriptions.values()]) typeHash(t.rosType, msgsCommon.ros2jazzy);
+  const discovery = {
+    subscribed: false, samples: 0, writers: [], latest: new Map(), nodeFound: undefined, nodeProblems: [],
+  };
   const participantsSeen = new Map();
   // With the talker's participant GID known, anything else on the domain (another test that
   // drew the same random domain) is ignored instead of being compared against our JSON.
@@ -306,12 +321,31 @@ async function main() {
     }
   });
 
+  participant.on("discoveredSubscription", (r) => {
+    const guid = rtps.makeGuid(r.guidPrefix, r.entityId);
+    if (r.topicName == undefined || r.topicName === DISCOVERY_TOPIC) return;
+    const sub = subscriptions.get(r.topicName);
+    if (opts.list || sub == undefined || !fromTalker(r.guidPrefix)) {
+      if (opts.list) {
+        log(`reader ${guid}: DDS ${r.topicName} [${r.typeName}] qos(${qosString(r)}) user_data "${r.userData ?? ""}"`);
+      }
+      return;
+    }
+    if (sub.readers.some((x) => rtps.makeGuid(x.guidPrefix, x.entityId) === guid)) return;
+    sub.readers.push(r);
+    log(`reader ${guid}: DDS ${r.topicName} [${r.typeName}] -> ROS ${sub.rosName} ` +
+      `qos(${qosString(r)}) user_data "${r.userData ?? ""}"`);
+    checkDone();
+  });
+
   let finish;
   const done = new Promise((resolve) => (finish = resolve));
   const checkDone = () => {
     if (opts.list) return;
+    evaluateDiscovery();
     const allTopics = [...topics.values()].every((t) => t.result !== undefined);
-    if (allTopics && discovery.nodeFound !== undefined) finish("complete");
+    const allReaders = [...subscriptions.values()].every((x) => x.readers.length > 0);
+    if (allTopics && allReaders && discovery.nodeFound !== undefined) finish("complete");
   };
 
   participant.on("userData", (data) => {
@@ -335,7 +369,8 @@ async function main() {
       if (problems.length > 0) {
         failures.push(`${DISCOVERY_TOPIC}: ${problems.join("; ")}`);
       }
-      evaluateDiscovery(info, data.publication.guidPrefix);
+      describeDiscovery(info, data.publication.guidPrefix);
+      discovery.latest.set(data.publication.guidPrefix, info);
       checkDone();
       return;
     }
@@ -360,40 +395,54 @@ async function main() {
     checkDone();
   });
 
-  // The talker's node must be listed by its participant, and every expected topic's writer must
-  // be in the node's writer_gid_seq (that is how `ros2 node info` finds a node's publishers).
-  function evaluateDiscovery(info, senderPrefix) {
-    const participantGid = bytesToHex(info.gid.data);
-    const expectedParticipantGid = rtps.makeGuid(senderPrefix, rtps.EntityIdBuiltin.Participant);
-    const nodes = info.node_entities_info_seq.map((n) => ({
-      namespace: n.node_namespace,
-      name: n.node_name,
-      writers: new Set(n.writer_gid_seq.map((g) => bytesToHex(g.data))),
-      readers: n.reader_gid_seq.length,
-    }));
-    log(`${DISCOVERY_TOPIC} from ${senderPrefix}: gid ${participantGid}, nodes ` +
-      (nodes.map((n) => `${n.namespace === "/" ? "" : n.namespace}/${n.name} ` +
-        `(${n.writers.size} writers, ${n.readers} readers)`).join(", ") || "(none)"));
-    if (opts.list || expected == undefined) return;
-    const node = nodes.find((n) => n.name === expected.node_name && n.namespace === expected.node_namespace);
-    if (node == undefined) return;
+  function describeDiscovery(info, senderPrefix) {
+    const nodes = info.node_entities_info_seq.map((n) =>
+      `${n.node_namespace === "/" ? "" : n.node_namespace}/${n.node_name} ` +
+      `(${n.writer_gid_seq.length} writers, ${n.reader_gid_seq.length} readers)`);
+    log(`${DISCOVERY_TOPIC} from ${senderPrefix}: gid ${bytesToHex(info.gid.data)}, nodes ` +
+      (nodes.join(", ") || "(none)"));
+  }
+
+  // The talker's node must be listed by its participant, with the GIDs of the writers of every
+  // expected topic and of the readers of every expected subscription: that is how
+  // `ros2 node info` and rqt_graph tie endpoints to nodes. Evaluated over the latest sample of
+  // each participant, since a sample may predate endpoints created after it.
+  function evaluateDiscovery() {
+    if (expected == undefined) return;
     const problems = [];
-    if (participantGid !== expectedParticipantGid) {
-      problems.push(`ParticipantEntitiesInfo.gid is ${participantGid}, the sending participant's ` +
-        `GUID is ${expectedParticipantGid}`);
-    }
-    for (const t of topics.values()) {
-      for (const w of t.writers.filter((x) => x.guidPrefix === senderPrefix)) {
-        const gid = rtps.makeGuid(w.guidPrefix, w.entityId);
-        if (!node.writers.has(gid)) {
-          problems.push(`writer ${gid} of ${t.rosName} is not in ${expected.node_name}'s writer_gid_seq`);
+    let found;
+    for (const [senderPrefix, info] of discovery.latest) {
+      const node = info.node_entities_info_seq.find(
+        (n) => n.node_name === expected.node_name && n.node_namespace === expected.node_namespace);
+      if (node == undefined) continue;
+      const participantGid = bytesToHex(info.gid.data);
+      const senderGid = rtps.makeGuid(senderPrefix, rtps.EntityIdBuiltin.Participant);
+      if (participantGid !== senderGid) {
+        problems.push(`ParticipantEntitiesInfo.gid is ${participantGid}, the sending participant's ` +
+          `GUID is ${senderGid}`);
+      }
+      const writerGids = new Set(node.writer_gid_seq.map((g) => bytesToHex(g.data)));
+      const readerGids = new Set(node.reader_gid_seq.map((g) => bytesToHex(g.data)));
+      const need = [
+        ...[...topics.values()].map((t) => ({ what: t.rosName, endpoints: t.writers, gids: writerGids, seq: "writer_gid_seq" })),
+        ...[...subscriptions.values()].map((x) => ({ what: x.rosName, endpoints: x.readers, gids: readerGids, seq: "reader_gid_seq" })),
+      ];
+      for (const { what, endpoints, gids, seq } of need) {
+        const own = endpoints.filter((e) => e.guidPrefix === senderPrefix);
+        if (own.length === 0) {
+          problems.push(`no endpoint of ${what} from participant ${senderPrefix} discovered yet`);
+        }
+        for (const e of own) {
+          const gid = rtps.makeGuid(e.guidPrefix, e.entityId);
+          if (!gids.has(gid)) problems.push(`${gid} (${what}) is not in ${expected.node_name}'s ${seq}`);
         }
       }
+      found = { namespace: node.node_namespace, name: node.node_name, writers: writerGids.size, readers: readerGids.size };
     }
-    // A later sample may add writers created after the first one was sent: keep the latest verdict.
     discovery.nodeProblems = problems;
-    if (problems.length === 0) discovery.nodeFound = node;
+    discovery.nodeFound = found !== undefined && problems.length === 0 ? found : undefined;
   }
+
 
   log(`domain ${opts.domainId}, advertising ${address}, timeout ${opts.timeoutS} s`);
   await participant.start();
@@ -466,17 +515,37 @@ async function main() {
       console.log(`  FAIL ${DISCOVERY_TOPIC}: ${problem}`);
     }
   }
+  for (const x of subscriptions.values()) {
+    if (x.readers.length === 0) {
+      ok = false;
+      console.log(`  FAIL subscription ${x.rosName} [${x.rosType}]: no reader on ${rosTopicToDds(x.rosName)} discovered`);
+      continue;
+    }
+    for (const r of x.readers) {
+      const problems = [];
+      if (r.typeName !== x.ddsType) problems.push(`DDS type ${r.typeName}, expected ${x.ddsType}`);
+      const hashProblem = checkTypeHash(r, x.rosType, msgsCommon.ros2jazzy);
+      if (hashProblem !== undefined) problems.push(hashProblem);
+      if (problems.length > 0) {
+        ok = false;
+        console.log(`  FAIL subscription ${x.rosName}: ${problems.join("; ")}`);
+      } else {
+        console.log(`  ok   subscription ${x.rosName} [${x.rosType}] qos(${qosString(r)}), type hash matches`);
+      }
+    }
+  }
+  evaluateDiscovery();
   if (discovery.nodeFound !== undefined) {
     const n = discovery.nodeFound;
     console.log(`  ok   ${DISCOVERY_TOPIC}: node ${n.namespace === "/" ? "" : n.namespace}/${n.name} ` +
-      `with ${n.writers.size} writer gid(s) covering all expected topics`);
+      `lists ${n.writers} writer and ${n.readers} reader gid(s), covering every expected endpoint`);
   } else {
     ok = false;
     if (!discovery.subscribed) {
       console.log(`  FAIL ${DISCOVERY_TOPIC}: no writer discovered`);
     } else if (discovery.samples === 0) {
       console.log(`  FAIL ${DISCOVERY_TOPIC}: writer discovered, no sample received`);
-    } else if (discovery.nodeProblems !== undefined) {
+    } else if (discovery.nodeProblems.length > 0) {
       console.log(`  FAIL ${DISCOVERY_TOPIC}: node ${expected.node_name} found but:`);
       for (const d of discovery.nodeProblems) console.log(`         ${d}`);
     } else {
