@@ -1,0 +1,92 @@
+#pragma once
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core/mat.hpp>
+
+#include "mcvio/core/stereo_rig_calibration.hpp"
+#include "mcvio/frontend/frontend_options.hpp"
+#include "mcvio/frontend/gyro_integrator.hpp"
+#include "mcvio/frontend/motion_consistency_checker.hpp"
+#include "mcvio/frontend/stereo_input.hpp"
+#include "mcvio/frontend/tracking_result.hpp"
+
+namespace mcvio::frontend {
+
+/// Stereo KLT feature tracker: grid-bucketed FAST corners in the left image, pyramidal KLT
+/// between frames with gyro-predicted initial flow and a forward-backward check, left-right
+/// KLT with an epipolar check, and a RANSAC motion check that labels every track
+/// kConsistent / kInconsistent with the dominant camera motion.
+///
+/// Photometric failures (KLT lost, forward-backward error, leaving the image) drop a track;
+/// geometric disagreement does not: inconsistent tracks stay and are published with their
+/// label, so the backend sees motion-conflict evidence. Track ids are never reused.
+/// Bad frames are skipped with a status and message; the tracker keeps its state.
+class FeatureTracker {
+ public:
+  /// Throws mcvio::InputError if the options are invalid.
+  explicit FeatureTracker(const FrontendOptions& options = FrontendOptions());
+
+  /// Sets (or replaces) the stereo calibration (cam0 = left, cam1 = right, T_BC of each).
+  /// Throws mcvio::InputError if it is unusable (different resolutions, no baseline, non-rigid
+  /// extrinsics). Replacing it resets the tracks.
+  void setCalibration(const StereoRigCalibration& calibration);
+  bool hasCalibration() const { return calibration_.has_value(); }
+
+  /// Gyro bias subtracted before integration (the backend's estimate) [rad/s].
+  void setGyroBias(const Eigen::Vector3d& bias) { gyro_bias_ = bias; }
+
+  /// Processes one stereo frame. Never throws on bad input: see TrackingResult::status.
+  TrackingResult track(const StereoInput& input);
+
+  /// Recent positions of the live tracks, for drawing.
+  std::vector<TrackHistory> trackHistories() const;
+
+  /// Forgets all tracks and the previous frame (ids keep increasing).
+  void reset();
+
+  const FrontendOptions& options() const { return options_; }
+  std::uint32_t framesProcessed() const { return frame_index_; }
+
+ private:
+  struct Track {
+    std::uint64_t id = 0;
+    cv::Point2f left;
+    Eigen::Vector2d left_norm{0, 0};
+    bool stereo = false;
+    cv::Point2f right;
+    Eigen::Vector2d right_norm{0, 0};
+    bool has_point = false;
+    Eigen::Vector3d point{0, 0, 1};  // cam0 coordinates, this frame
+    TrackLabel label = TrackLabel::kUnknown;
+    std::deque<cv::Point2f> history;
+  };
+
+  void prepareImage(const cv::Mat& raw, cv::Mat* out) const;
+  void buildPyramid(const cv::Mat& image, std::vector<cv::Mat>* pyramid) const;
+  void trackTemporal(const std::vector<cv::Mat>& cur_pyr, const Eigen::Matrix3d* R_cur_prev,
+                     TrackingStats* stats);
+  void detectNew(const cv::Mat& image, TrackingStats* stats);
+  void matchStereo(const std::vector<cv::Mat>& left_pyr, const std::vector<cv::Mat>& right_pyr,
+                   TrackingStats* stats);
+
+  FrontendOptions options_;
+  std::optional<StereoRigCalibration> calibration_;
+  std::unique_ptr<MotionConsistencyChecker> checker_;
+  GyroIntegrator gyro_;
+  Eigen::Vector3d gyro_bias_ = Eigen::Vector3d::Zero();
+
+  bool has_prev_ = false;
+  Timestamp prev_t_ = 0;
+  std::vector<cv::Mat> prev_left_pyr_;
+  std::vector<Track> tracks_;
+  std::uint64_t next_id_ = 1;
+  std::uint32_t frame_index_ = 0;
+  cv::Mat occupancy_;  // detection mask buffer, reused
+};
+
+}  // namespace mcvio::frontend

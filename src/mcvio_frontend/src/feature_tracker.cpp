@@ -1,0 +1,475 @@
+#include "mcvio/frontend/feature_tracker.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <ctime>
+
+#include <Eigen/Geometry>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+
+#include "mcvio/core/input_error.hpp"
+
+namespace mcvio::frontend {
+namespace {
+
+std::string describeMat(const cv::Mat& m) {
+  return std::to_string(m.cols) + "x" + std::to_string(m.rows) + " " + cv::typeToString(m.type());
+}
+
+// Thread CPU time [ms]: stage costs that do not include time the scheduler gave to others.
+double threadCpuMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
+}
+
+Eigen::Vector2d toEigen(const cv::Point2f& p) { return {p.x, p.y}; }
+cv::Point2f toCv(const Eigen::Vector2d& p) {
+  return {static_cast<float>(p.x()), static_cast<float>(p.y())};
+}
+
+}  // namespace
+
+const char* toString(FrameStatus status) {
+  switch (status) {
+    case FrameStatus::kOk: return "ok";
+    case FrameStatus::kNoCalibration: return "no calibration";
+    case FrameStatus::kBadImage: return "bad image";
+    case FrameStatus::kMissingRight: return "missing right image";
+    case FrameStatus::kOutOfOrder: return "out of order";
+  }
+  return "unknown";
+}
+
+FeatureTracker::FeatureTracker(const FrontendOptions& options)
+    : options_(options), gyro_(options.max_imu_gap_ns) {
+  options_.validate();
+}
+
+void FeatureTracker::setCalibration(const StereoRigCalibration& calibration) {
+  for (int i = 0; i < 2; ++i) {
+    const CameraCalibration& cam = calibration.camera(i);
+    const Eigen::Matrix3d r = cam.T_BC.linear();
+    if (!cam.T_BC.matrix().allFinite() || (r * r.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-6) {
+      throw InputError("frontend calibration: T_BC of " + cam.name + " is not a rigid transform");
+    }
+    if (cam.model.width() < 32 || cam.model.height() < 32) {
+      throw InputError("frontend calibration: " + cam.name + " has no usable camera model (" +
+                       std::to_string(cam.model.width()) + "x" + std::to_string(cam.model.height()) + ")");
+    }
+  }
+  if (calibration.cam0.model.width() != calibration.cam1.model.width() ||
+      calibration.cam0.model.height() != calibration.cam1.model.height()) {
+    throw InputError("frontend calibration: cam0 and cam1 resolutions differ");
+  }
+  if (calibration.baseline() < 1e-3) {
+    throw InputError("frontend calibration: stereo baseline is " + std::to_string(calibration.baseline()) +
+                     " m; cam0 and cam1 must be apart");
+  }
+  calibration_ = calibration;
+  const CameraModel& cam0 = calibration.cam0.model;
+  checker_ = std::make_unique<MotionConsistencyChecker>(
+      options_.ransac_threshold_px, 0.5 * (cam0.fu() + cam0.fv()), options_.ransac_iterations,
+      options_.min_tracks_for_check, options_.ransac_seed);
+  reset();
+}
+
+void FeatureTracker::reset() {
+  has_prev_ = false;
+  prev_left_pyr_.clear();
+  tracks_.clear();
+}
+
+std::vector<TrackHistory> FeatureTracker::trackHistories() const {
+  std::vector<TrackHistory> out;
+  out.reserve(tracks_.size());
+  for (const Track& t : tracks_) {
+    out.push_back({t.id, t.label, t.stereo, {t.history.begin(), t.history.end()}});
+  }
+  return out;
+}
+
+void FeatureTracker::prepareImage(const cv::Mat& raw, cv::Mat* out) const {
+  if (options_.exposure_normalization == "none") {
+    *out = raw;
+    return;
+  }
+  constexpr double kContrast = 48.0;  // target standard deviation in grey levels
+  if (options_.exposure_normalization == "global") {
+    // Gain/offset invariance: map every image to the same mean and contrast before KLT.
+    cv::Scalar mean, stddev;
+    cv::meanStdDev(raw, mean, stddev);
+    const double alpha = kContrast / std::max(stddev[0], 1.0);
+    raw.convertTo(*out, CV_8U, alpha, 128.0 - alpha * mean[0]);
+    return;
+  }
+  // Local: mean and std per block, blended bilinearly, so each region gets its own gain.
+  const int block = options_.normalization_block_px;
+  const cv::Size coarse(std::max(1, raw.cols / block), std::max(1, raw.rows / block));
+  cv::Mat f, f2, mean_c, sq_c;
+  raw.convertTo(f, CV_32F);
+  cv::multiply(f, f, f2);
+  cv::resize(f, mean_c, coarse, 0, 0, cv::INTER_AREA);
+  cv::resize(f2, sq_c, coarse, 0, 0, cv::INTER_AREA);
+  cv::Mat gain_c(coarse, CV_32F), offset_c(coarse, CV_32F);
+  for (int r = 0; r < coarse.height; ++r) {
+    for (int c = 0; c < coarse.width; ++c) {
+      const float m = mean_c.at<float>(r, c);
+      const float var = std::max(sq_c.at<float>(r, c) - m * m, 0.0f);
+      // The floor keeps flat, dark regions from turning sensor noise into texture.
+      const float g = static_cast<float>(kContrast) / std::sqrt(var + 16.0f);
+      gain_c.at<float>(r, c) = g;
+      offset_c.at<float>(r, c) = 128.0f - g * m;
+    }
+  }
+  cv::Mat gain, offset;
+  cv::resize(gain_c, gain, raw.size(), 0, 0, cv::INTER_LINEAR);
+  cv::resize(offset_c, offset, raw.size(), 0, 0, cv::INTER_LINEAR);
+  cv::multiply(f, gain, f);
+  cv::add(f, offset, f);
+  f.convertTo(*out, CV_8U);
+}
+
+void FeatureTracker::buildPyramid(const cv::Mat& image, std::vector<cv::Mat>* pyramid) const {
+  cv::buildOpticalFlowPyramid(image, *pyramid, cv::Size(options_.window_size, options_.window_size),
+                              options_.pyramid_levels, true);
+}
+
+TrackingResult FeatureTracker::track(const StereoInput& input) {
+  TrackingResult result;
+  result.features.t = input.t;
+  for (const ImuSample& s : input.imu) gyro_.add(s);
+
+  auto skip = [&](FrameStatus status, const std::string& why) {
+    result.status = status;
+    result.message = "frontend: frame t=" + std::to_string(input.t) + " skipped: " + why;
+    return result;
+  };
+  if (!calibration_) return skip(FrameStatus::kNoCalibration, "no stereo calibration received yet");
+  const CameraModel& cam0 = calibration_->cam0.model;
+  const char* names[2] = {"left", "right"};
+  const cv::Mat* images[2] = {&input.left, &input.right};
+  for (int i = 0; i < 2; ++i) {
+    const cv::Mat& m = *images[i];
+    if (m.empty()) {
+      return skip(i == 0 ? FrameStatus::kBadImage : FrameStatus::kMissingRight,
+                  std::string(names[i]) + " image is missing");
+    }
+    if (m.type() != CV_8UC1) {
+      return skip(FrameStatus::kBadImage, std::string(names[i]) +
+                                              " image encoding must be mono8 (CV_8UC1), got " +
+                                              describeMat(m));
+    }
+    const CameraModel& cam = calibration_->camera(i).model;
+    if (m.cols != cam.width() || m.rows != cam.height()) {
+      return skip(FrameStatus::kBadImage,
+                  std::string(names[i]) + " image is " + describeMat(m) + ", calibration expects " +
+                      std::to_string(cam.width()) + "x" + std::to_string(cam.height()));
+    }
+  }
+  if (has_prev_ && input.t <= prev_t_) {
+    return skip(FrameStatus::kOutOfOrder, "timestamp not after the previous frame t=" +
+                                              std::to_string(prev_t_));
+  }
+
+  TrackingStats& stats = result.stats;
+  const double t_start = threadCpuMs();
+  cv::Mat left, right;
+  prepareImage(input.left, &left);
+  prepareImage(input.right, &right);
+  std::vector<cv::Mat> left_pyr, right_pyr;
+  buildPyramid(left, &left_pyr);
+  buildPyramid(right, &right_pyr);
+  double t_mark = threadCpuMs();
+  stats.cpu_ms_prepare = t_mark - t_start;
+  auto lap = [&t_mark]() {
+    const double now = threadCpuMs();
+    const double d = now - t_mark;
+    t_mark = now;
+    return d;
+  };
+  if (has_prev_ && !tracks_.empty()) {
+    Eigen::Matrix3d R_b_prev_cur;
+    Eigen::Matrix3d R_cur_prev;
+    bool have_rotation = false;
+    if (options_.use_gyro_prediction && gyro_.rotation(prev_t_, input.t, gyro_bias_, &R_b_prev_cur)) {
+      const Eigen::Matrix3d R_bc = calibration_->cam0.T_BC.linear();
+      R_cur_prev = (R_bc.transpose() * R_b_prev_cur * R_bc).transpose();
+      have_rotation = true;
+    }
+    stats.gyro_prediction = have_rotation;
+    trackTemporal(left_pyr, have_rotation ? &R_cur_prev : nullptr, &stats);
+  } else {
+    for (Track& t : tracks_) t.label = TrackLabel::kUnknown;
+  }
+  stats.cpu_ms_temporal = lap();
+  detectNew(left, &stats);
+  stats.cpu_ms_detect = lap();
+  matchStereo(left_pyr, right_pyr, &stats);
+  stats.cpu_ms_stereo = lap();
+
+  FeatureFrame& ff = result.features;
+  ff.frame_index = frame_index_;
+  ff.features.reserve(tracks_.size() * 2);
+  for (Track& t : tracks_) {
+    t.history.push_back(t.left);
+    while (static_cast<int>(t.history.size()) > options_.history_length) t.history.pop_front();
+    FeatureObservation o;
+    o.track_id = t.id;
+    o.camera_index = 0;
+    o.pixel = toEigen(t.left);
+    o.normalized = t.left_norm;
+    o.label = t.label;
+    ff.features.push_back(o);
+    if (t.stereo) {
+      o.camera_index = 1;
+      o.pixel = toEigen(t.right);
+      o.normalized = t.right_norm;
+      ff.features.push_back(o);
+    }
+    if (t.label == TrackLabel::kConsistent) ++stats.consistent;
+    if (t.label == TrackLabel::kInconsistent) ++stats.inconsistent;
+  }
+  (void)cam0;
+  stats.cpu_ms_total = threadCpuMs() - t_start;
+  prev_left_pyr_ = std::move(left_pyr);
+  prev_t_ = input.t;
+  has_prev_ = true;
+  ++frame_index_;
+  gyro_.dropBefore(input.t);
+  return result;
+}
+
+void FeatureTracker::trackTemporal(const std::vector<cv::Mat>& cur_pyr,
+                                   const Eigen::Matrix3d* R_cur_prev, TrackingStats* stats) {
+  const CameraModel& cam0 = calibration_->cam0.model;
+  const std::size_t n = tracks_.size();
+  std::vector<cv::Point2f> prev_pts(n), cur_pts(n), back_pts(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    prev_pts[i] = tracks_[i].left;
+    cur_pts[i] = tracks_[i].left;
+    if (R_cur_prev) {
+      Eigen::Vector2d px;
+      if (cam0.projectAnywhere(Eigen::Vector3d(*R_cur_prev * tracks_[i].left_norm.homogeneous()), &px) &&
+          cam0.isInImage(px)) {
+        cur_pts[i] = toCv(px);
+      }
+    }
+  }
+  const cv::Size win(options_.window_size, options_.window_size);
+  const cv::TermCriteria crit(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
+                              options_.klt_max_iterations, options_.klt_epsilon);
+  std::vector<uchar> st_fwd, st_bwd;
+  std::vector<float> err;
+  cv::calcOpticalFlowPyrLK(prev_left_pyr_, cur_pyr, prev_pts, cur_pts, st_fwd, err, win,
+                           options_.pyramid_levels, crit, cv::OPTFLOW_USE_INITIAL_FLOW);
+  back_pts = prev_pts;
+  cv::calcOpticalFlowPyrLK(cur_pyr, prev_left_pyr_, cur_pts, back_pts, st_bwd, err, win,
+                           options_.pyramid_levels, crit, cv::OPTFLOW_USE_INITIAL_FLOW);
+
+  std::vector<Track> kept;
+  std::vector<MotionConsistencyChecker::Correspondence> corr;
+  kept.reserve(n);
+  corr.reserve(n);
+  const double fb2 = options_.fb_threshold_px * options_.fb_threshold_px;
+  for (std::size_t i = 0; i < n; ++i) {
+    const cv::Point2f d = back_pts[i] - prev_pts[i];
+    Eigen::Vector2d norm;
+    if (!st_fwd[i] || !st_bwd[i] || d.dot(d) > fb2 ||
+        !cam0.isInImage(toEigen(cur_pts[i]), options_.border_px) ||
+        !cam0.unproject(toEigen(cur_pts[i]), &norm)) {
+      ++stats->lost;
+      continue;
+    }
+    Track t = std::move(tracks_[i]);
+    MotionConsistencyChecker::Correspondence c;
+    c.prev_normalized = t.left_norm;
+    c.cur_normalized = norm;
+    c.has_point = t.has_point;
+    c.point_prev = t.point;
+    corr.push_back(c);
+    t.left = cur_pts[i];
+    t.left_norm = norm;
+    kept.push_back(std::move(t));
+  }
+  tracks_ = std::move(kept);
+  stats->tracked = static_cast<int>(tracks_.size());
+
+  const MotionConsistencyChecker::Result check = checker_->check(corr, R_cur_prev);
+  stats->metric_check = check.valid && check.metric;
+  for (std::size_t i = 0; i < tracks_.size(); ++i) tracks_[i].label = check.labels[i];
+}
+
+void FeatureTracker::detectNew(const cv::Mat& image, TrackingStats* stats) {
+  const int max_features = options_.max_features;
+  if (static_cast<int>(tracks_.size()) >= max_features) return;
+  const int w = image.cols, h = image.rows;
+  const int radius = static_cast<int>(std::ceil(options_.min_distance_px));
+  occupancy_.create(h, w, CV_8UC1);
+  occupancy_.setTo(0);
+  const int cols = options_.grid_cols, rows = options_.grid_rows;
+  std::vector<int> cell_count(static_cast<std::size_t>(cols * rows), 0);
+  const int b = options_.border_px;
+  const double cell_w = static_cast<double>(w - 2 * b) / cols;
+  const double cell_h = static_cast<double>(h - 2 * b) / rows;
+  auto cellOf = [&](const cv::Point2f& p) {
+    const int cx = std::clamp(static_cast<int>((p.x - b) / cell_w), 0, cols - 1);
+    const int cy = std::clamp(static_cast<int>((p.y - b) / cell_h), 0, rows - 1);
+    return cy * cols + cx;
+  };
+  for (const Track& t : tracks_) {
+    cv::circle(occupancy_, t.left, radius, 255, -1);
+    ++cell_count[static_cast<std::size_t>(cellOf(t.left))];
+  }
+  const int quota = (max_features + cols * rows - 1) / (cols * rows);
+  std::vector<cv::KeyPoint> pool;  // leftovers from under-filled cells
+  std::vector<cv::Point2f> fresh;
+  int total = static_cast<int>(tracks_.size());
+  auto take = [&](const cv::KeyPoint& kp) {
+    const int x = cvRound(kp.pt.x), y = cvRound(kp.pt.y);
+    if (x < b || y < b || x >= w - b || y >= h - b) return false;
+    if (occupancy_.at<uchar>(y, x)) return false;
+    cv::circle(occupancy_, kp.pt, radius, 255, -1);
+    fresh.push_back(kp.pt);
+    ++total;
+    return true;
+  };
+  std::vector<cv::KeyPoint> kps;
+  for (int cy = 0; cy < rows && total < max_features; ++cy) {
+    for (int cx = 0; cx < cols && total < max_features; ++cx) {
+      int need = quota - cell_count[static_cast<std::size_t>(cy * cols + cx)];
+      if (need <= 0) continue;
+      // FAST needs 3 px around each pixel: widen the ROI so corners at cell edges are seen.
+      const int x0 = std::max(0, static_cast<int>(b + cx * cell_w) - 3);
+      const int y0 = std::max(0, static_cast<int>(b + cy * cell_h) - 3);
+      const int x1 = std::min(w, static_cast<int>(b + (cx + 1) * cell_w) + 3);
+      const int y1 = std::min(h, static_cast<int>(b + (cy + 1) * cell_h) + 3);
+      const cv::Rect roi(x0, y0, x1 - x0, y1 - y0);
+      for (int thr = options_.fast_threshold; need > 0; thr = std::max(options_.fast_min_threshold, thr / 2)) {
+        kps.clear();
+        cv::FAST(image(roi), kps, thr, true);
+        std::sort(kps.begin(), kps.end(),
+                  [](const cv::KeyPoint& a, const cv::KeyPoint& c) { return a.response > c.response; });
+        std::size_t k = 0;
+        for (; k < kps.size() && need > 0 && total < max_features; ++k) {
+          kps[k].pt.x += static_cast<float>(x0);
+          kps[k].pt.y += static_cast<float>(y0);
+          if (take(kps[k])) --need;
+        }
+        if (need <= 0 || thr == options_.fast_min_threshold) {
+          for (; k < kps.size(); ++k) {
+            kps[k].pt.x += static_cast<float>(x0);
+            kps[k].pt.y += static_cast<float>(y0);
+            pool.push_back(kps[k]);
+          }
+          break;
+        }
+      }
+    }
+  }
+  if (total < max_features && !pool.empty()) {
+    std::sort(pool.begin(), pool.end(),
+              [](const cv::KeyPoint& a, const cv::KeyPoint& c) { return a.response > c.response; });
+    for (const cv::KeyPoint& kp : pool) {
+      if (total >= max_features) break;
+      take(kp);
+    }
+  }
+  if (fresh.empty()) return;
+  if (options_.subpixel_refinement) {
+    cv::cornerSubPix(image, fresh, cv::Size(3, 3), cv::Size(-1, -1),
+                     cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 10, 0.01));
+  }
+  const CameraModel& cam0 = calibration_->cam0.model;
+  for (const cv::Point2f& p : fresh) {
+    Track t;
+    if (!cam0.isInImage(toEigen(p), b) || !cam0.unproject(toEigen(p), &t.left_norm)) continue;
+    t.id = next_id_++;
+    t.left = p;
+    tracks_.push_back(std::move(t));
+    ++stats->detected;
+  }
+}
+
+void FeatureTracker::matchStereo(const std::vector<cv::Mat>& left_pyr,
+                                 const std::vector<cv::Mat>& right_pyr, TrackingStats* stats) {
+  const std::size_t n = tracks_.size();
+  if (n == 0) return;
+  const CameraModel& cam1 = calibration_->cam1.model;
+  const Eigen::Isometry3d T10 = calibration_->T_C0C1().inverse();
+  const Eigen::Matrix3d R10 = T10.linear();
+  const Eigen::Vector3d t10 = T10.translation();
+  Eigen::Matrix3d tx;
+  tx << 0, -t10.z(), t10.y(), t10.z(), 0, -t10.x(), -t10.y(), t10.x(), 0;
+  const Eigen::Matrix3d E = tx * R10;
+
+  // New tracks start at the median depth of the current stereo points (infinity if none).
+  std::vector<double> depths;
+  for (const Track& t : tracks_) {
+    if (t.has_point) depths.push_back(t.point.z());
+  }
+  double guess_depth = 0.0;
+  if (!depths.empty()) {
+    std::nth_element(depths.begin(), depths.begin() + static_cast<long>(depths.size() / 2), depths.end());
+    guess_depth = depths[depths.size() / 2];
+  }
+  std::vector<cv::Point2f> lpts(n), rpts(n), back(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Track& t = tracks_[i];
+    lpts[i] = t.left;
+    if (t.stereo) {
+      // Disparity changes slowly: carry last frame's left-right offset (stored in history).
+      rpts[i] = t.left + (t.right - (t.history.empty() ? t.left : t.history.back()));
+    } else {
+      const Eigen::Vector3d ray = t.left_norm.homogeneous();
+      const Eigen::Vector3d p1 = guess_depth > 0 ? Eigen::Vector3d(T10 * (ray * guess_depth)) : Eigen::Vector3d(R10 * ray);
+      Eigen::Vector2d px;
+      rpts[i] = (cam1.projectAnywhere(p1, &px) && cam1.isInImage(px)) ? toCv(px) : t.left;
+    }
+  }
+  const cv::Size win(options_.window_size, options_.window_size);
+  const cv::TermCriteria crit(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
+                              options_.klt_max_iterations, options_.klt_epsilon);
+  std::vector<uchar> st_fwd, st_bwd;
+  std::vector<float> err;
+  cv::calcOpticalFlowPyrLK(left_pyr, right_pyr, lpts, rpts, st_fwd, err, win,
+                           options_.pyramid_levels, crit, cv::OPTFLOW_USE_INITIAL_FLOW);
+  back = lpts;
+  cv::calcOpticalFlowPyrLK(right_pyr, left_pyr, rpts, back, st_bwd, err, win,
+                           options_.pyramid_levels, crit, cv::OPTFLOW_USE_INITIAL_FLOW);
+  const double fb2 = options_.stereo_fb_threshold_px * options_.stereo_fb_threshold_px;
+  const double f1 = 0.5 * (cam1.fu() + cam1.fv());
+  for (std::size_t i = 0; i < n; ++i) {
+    Track& t = tracks_[i];
+    t.stereo = false;
+    t.has_point = false;
+    const cv::Point2f d = back[i] - lpts[i];
+    Eigen::Vector2d rn;
+    if (!st_fwd[i] || !st_bwd[i] || d.dot(d) > fb2 || !cam1.isInImage(toEigen(rpts[i]), 1.0) ||
+        !cam1.unproject(toEigen(rpts[i]), &rn)) {
+      continue;
+    }
+    const Eigen::Vector3d x0 = t.left_norm.homogeneous();
+    const Eigen::Vector3d x1 = rn.homogeneous();
+    const Eigen::Vector3d line = E * x0;
+    const double epi_px = std::abs(x1.dot(line)) / line.head<2>().norm() * f1;
+    if (!(epi_px <= options_.stereo_epipolar_threshold_px)) continue;
+    // Depths along both rays: d1 x1 = d0 R x0 + t, least squares.
+    Eigen::Matrix<double, 3, 2> a;
+    a.col(0) = R10 * x0;
+    a.col(1) = -x1;
+    const Eigen::Vector2d depth = (a.transpose() * a).ldlt().solve(-a.transpose() * t10);
+    if (!(depth[0] >= options_.min_depth_m && depth[0] <= options_.max_depth_m && depth[1] > 0)) continue;
+    t.stereo = true;
+    t.right = rpts[i];
+    t.right_norm = rn;
+    t.has_point = true;
+    t.point = x0 * depth[0];
+    ++stats->stereo_matched;
+  }
+}
+
+}  // namespace mcvio::frontend

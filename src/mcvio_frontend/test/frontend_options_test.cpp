@@ -1,0 +1,59 @@
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include "mcvio/core/input_error.hpp"
+#include "mcvio/frontend/frontend_options.hpp"
+
+namespace mcvio::frontend {
+namespace {
+
+std::string errorOf(const std::string& yaml) {
+  try {
+    FrontendOptions::fromYaml(YAML::Load(yaml), "test.yaml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(FrontendOptions, DefaultsAreValid) { EXPECT_NO_THROW(FrontendOptions().validate()); }
+
+TEST(FrontendOptions, YamlOverridesDefaults) {
+  const FrontendOptions o = FrontendOptions::fromYaml(
+      YAML::Load("max_features: 150\nwindow_size: 15\nexposure_normalization: local\nfb_threshold_px: 0.8"));
+  EXPECT_EQ(o.max_features, 150);
+  EXPECT_EQ(o.window_size, 15);
+  EXPECT_EQ(o.exposure_normalization, "local");
+  EXPECT_DOUBLE_EQ(o.fb_threshold_px, 0.8);
+  EXPECT_EQ(o.grid_cols, FrontendOptions().grid_cols);
+}
+
+TEST(FrontendOptions, ErrorsNameTheKey) {
+  EXPECT_NE(errorOf("max_features: -3").find("max_features"), std::string::npos);
+  EXPECT_NE(errorOf("window_size: 20").find("window_size"), std::string::npos);
+  EXPECT_NE(errorOf("max_featurez: 100").find("max_featurez"), std::string::npos);
+  EXPECT_NE(errorOf("pyramid_levels: many").find("pyramid_levels"), std::string::npos);
+  EXPECT_NE(errorOf("min_depth_m: 5\nmax_depth_m: 1").find("max_depth_m"), std::string::npos);
+  EXPECT_NE(errorOf("max_features: -3").find("test.yaml"), std::string::npos);
+  EXPECT_NE(errorOf("exposure_normalization: auto").find("exposure_normalization"), std::string::npos);
+  EXPECT_EQ(errorOf("max_features: 100"), "");
+}
+
+TEST(FrontendOptions, FileWithFrontendSection) {
+  const std::string path = ::testing::TempDir() + "/frontend_opts.yaml";
+  std::ofstream(path) << "frontend:\n  grid_cols: 10\n  ransac_threshold_px: 2.5\n";
+  const FrontendOptions o = FrontendOptions::fromFile(path);
+  EXPECT_EQ(o.grid_cols, 10);
+  EXPECT_DOUBLE_EQ(o.ransac_threshold_px, 2.5);
+  EXPECT_THROW(FrontendOptions::fromFile("/nonexistent/frontend.yaml"), InputError);
+}
+
+TEST(FrontendOptions, ShippedConfigLoads) {
+  const FrontendOptions o = FrontendOptions::fromFile(MCVIO_FRONTEND_CONFIG_DIR "/frontend.yaml");
+  EXPECT_EQ(o.max_features, FrontendOptions().max_features);
+}
+
+}  // namespace
+}  // namespace mcvio::frontend

@@ -1,0 +1,34 @@
+#include <gtest/gtest.h>
+
+#include "mcvio/core/input_error.hpp"
+#include "mcvio/frontend/track_drawer.hpp"
+
+namespace mcvio::frontend {
+namespace {
+
+TEST(TrackDrawer, ColoursByLabelInRgbOrder) {
+  const cv::Mat grey(100, 200, CV_8UC1, cv::Scalar(50));
+  std::vector<TrackHistory> tracks;
+  tracks.push_back({1, TrackLabel::kConsistent, true, {{20, 20}, {30, 30}, {40, 40}}});
+  tracks.push_back({2, TrackLabel::kInconsistent, true, {{150, 50}}});
+  const cv::Mat out = drawTracks(grey, tracks);
+  ASSERT_EQ(out.type(), CV_8UC3);
+  ASSERT_EQ(out.size(), grey.size());
+  const cv::Vec3b green = out.at<cv::Vec3b>(40, 40);
+  EXPECT_EQ(green[0], 0);
+  EXPECT_EQ(green[1], 220);
+  const cv::Vec3b red = out.at<cv::Vec3b>(50, 150);
+  EXPECT_EQ(red[0], 255);
+  EXPECT_EQ(red[1], 0);
+  // History line between the older positions.
+  const cv::Vec3b mid = out.at<cv::Vec3b>(25, 25);
+  EXPECT_GT(mid[1], 100);
+  EXPECT_EQ(out.at<cv::Vec3b>(90, 10), cv::Vec3b(50, 50, 50));
+}
+
+TEST(TrackDrawer, RejectsOtherImageTypes) {
+  EXPECT_THROW(drawTracks(cv::Mat(10, 10, CV_16UC1), {}), InputError);
+}
+
+}  // namespace
+}  // namespace mcvio::frontend
