@@ -28,6 +28,8 @@ const DISCOVERY_DDS_TYPE = rmwDdsCommon.DDS_TYPE;
 // Large enough to hold a whole fragmented 752x480 image in flight; the kernel caps it at
 // net.core.rmem_max.
 const RECV_BUFFER_BYTES = 8 * 1024 * 1024;
+// Participants per host reached by unicast announcements (Fast DDS numbers them from 0).
+const UNICAST_PARTICIPANT_IDS = 4;
 
 
 const RELIABILITY_NAMES = { 1: "best_effort", 2: "reliable" };
@@ -454,7 +456,29 @@ async function main() {
   }
   // Re-announce ourselves now and then: a participant that starts after us learns of us from
   // its own multicast announcement, but one whose first multicast packet we missed does not.
-  const announceTimer = setInterval(() => void participant.broadcastParticipant(participant.attributes), 1000);
+  // Besides multicast, announce to the well-known metatraffic unicast ports of the first
+  // participants on this host (what Fast DDS's default initial peers do), so discovery also
+  // works where multicast does not reach.
+  const multicastLocator = participant._multicastLocator;
+  const unicastTargets = [];
+  for (const host of new Set(["127.0.0.1", address])) {
+    for (let id = 0; id < UNICAST_PARTICIPANT_IDS; id++) {
+      unicastTargets.push(rtps.locatorFromUdpAddress({
+        address: host, family: "IPv4", port: rtps.discoveryUnicastPort(opts.domainId, id),
+      }));
+    }
+  }
+  const announce = async () => {
+    await participant.broadcastParticipant(participant.attributes);
+    // broadcastParticipant sends to _multicastLocator; point it at each unicast port in turn.
+    for (const locator of unicastTargets) {
+      participant._multicastLocator = locator;
+      await participant.broadcastParticipant(participant.attributes).catch(() => {});
+    }
+    participant._multicastLocator = multicastLocator;
+  };
+  void announce();
+  const announceTimer = setInterval(() => void announce(), 1000);
 
   const timer = setTimeout(() => finish("timeout"), opts.timeoutS * 1000);
   const outcome = await done;
