@@ -282,9 +282,6 @@ async function main() {
       `${rosTopic ? rosTopic.topic : "(not a ROS topic)"} [${rosType ?? "(not a ROS type)"}] ` +
       `qos(${qosString(w)}) user_data "${w.userData ?? ""}"`);
 
-    if (opts.list) {
-      return;
-    }
     if (!fromTalker(w.guidPrefix)) {
       log(`  (ignored: not the talker's participant ${expected.participant_gid})`);
       return;
@@ -308,7 +305,7 @@ async function main() {
       return;
     }
     const topic = topics.get(w.topicName);
-    if (topic == undefined) {
+    if (opts.list || topic == undefined) {
       return;
     }
     topic.writers.push(w);
