@@ -9,7 +9,8 @@
 //
 // Usage: node peer.js --domain <id> --expected <talker.json> [--timeout <s>] [--address <ipv4>]
 //                     [--verbose]
-//        node peer.js --domain <id> --list [--timeout <s>]   (print the ROS 2 graph and exit 0)
+//        node peer.js --domain <id> --list [--timeout <s>]
+//          (print the writers, readers and ros_discovery_info nodes seen within the timeout; exit 0)
 // Exit status: 0 when everything matched, 1 on any mismatch or timeout, 2 on bad usage.
 "use strict";
 
@@ -30,7 +31,6 @@ const DISCOVERY_DDS_TYPE = rmwDdsCommon.DDS_TYPE;
 const RECV_BUFFER_BYTES = 8 * 1024 * 1024;
 // Participants per host reached by unicast announcements (Fast DDS numbers them from 0).
 const UNICAST_PARTICIPANT_IDS = 4;
-
 
 const RELIABILITY_NAMES = { 1: "best_effort", 2: "reliable" };
 const DURABILITY_NAMES = { 0: "volatile", 1: "transient_local", 2: "transient", 3: "persistent" };
