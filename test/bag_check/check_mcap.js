@@ -66,6 +66,13 @@ async function checkBag(dir, expected) {
   assert.strictEqual(Number(indexed.statistics.messageCount), want.length, `${bag}: statistics`);
   assert.ok(indexed.chunkIndexes.length > 3, `${bag}: several chunks`);
   const topics = checkTopics(indexed.channelsById, indexed.schemasById, bag);
+  // rosbag2's MCAP plugin stores metadata.yaml in a Metadata record named "rosbag2".
+  let rosbag2Metadata = 0;
+  for await (const m of indexed.readMetadata({ name: "rosbag2" })) {
+    assert.ok(m.metadata.get("serialized_metadata").includes("rosbag2_bagfile_information:"), `${bag}: rosbag2 metadata`);
+    rosbag2Metadata++;
+  }
+  assert.strictEqual(rosbag2Metadata, 1, `${bag}: one rosbag2 Metadata record`);
   const got = [];
   for await (const msg of indexed.readMessages()) {
     const t = topics.get(msg.channelId);

@@ -169,6 +169,9 @@ void BagWriter::closeFile() {
   if (auto* sqlite = dynamic_cast<SqliteWriter*>(file_.get())) {
     sqlite->setMetadataYaml(bagMetadataToYaml(metadata_));
   }
+  if (auto* mcap = dynamic_cast<McapWriter*>(file_.get())) {
+    mcap->addMetadata("rosbag2", {{"serialized_metadata", bagMetadataToYaml(metadata_)}});
+  }
   file_->close();
   file_.reset();
 }

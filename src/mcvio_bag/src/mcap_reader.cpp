@@ -325,6 +325,14 @@ void McapReader::linearScan(McapReadMode mode, std::uint64_t limit) {
           c.message_index_offsets[ch] = pos;
           c.message_index_length = pos + mcap::kRecordPrefix + len - (c.start_offset + c.length);
         }
+      } else if (op == mcap::kMetadata) {
+        ByteReader r(body, len);
+        mcap::MetadataIndex m;
+        m.name = r.str("name");
+        r.stringMap("metadata");
+        m.offset = pos;
+        m.length = mcap::kRecordPrefix + len;
+        metadata_.push_back(std::move(m));
       } else if (op == mcap::kDataEnd) {
         closeChunkIndexes();
         data_end_found_ = true;

@@ -26,6 +26,7 @@ McapRepairReport McapRepairer::repair(const std::filesystem::path& path) {
   std::vector<mcap::Schema> schemas;
   std::vector<mcap::Channel> channels;
   std::vector<mcap::ChunkInfo> chunks;
+  std::vector<mcap::MetadataIndex> metadata;
   detail::McapStatistics stats;
   std::uint64_t valid_end = 0;
   std::uint32_t crc = 0;
@@ -38,6 +39,7 @@ McapRepairReport McapRepairer::repair(const std::filesystem::path& path) {
     schemas = r.schemas();
     channels = r.channels();
     chunks = r.chunks();
+    metadata = r.metadataRecords();
     const auto& complete = r.chunkIndexComplete();
     for (std::size_t i = 0; i < chunks.size(); ++i) {
       if (complete[i]) continue;
@@ -78,7 +80,7 @@ McapRepairReport McapRepairer::repair(const std::filesystem::path& path) {
   }
   report.kept_bytes = valid_end;
   report.chunks = chunks.size();
-  detail::writeMcapTail(out, schemas, channels, chunks, stats, true);
+  detail::writeMcapTail(out, schemas, channels, chunks, stats, true, metadata);
   out.sync();
   out.close();
   // Prove the result reads back strictly.

@@ -53,10 +53,24 @@ std::vector<std::uint8_t> mcapMessageIndexContent(
   return c;
 }
 
+mcap::MetadataIndex writeMcapMetadata(FileOutput& out, const std::string& name,
+                                      const std::map<std::string, std::string>& entries) {
+  std::vector<std::uint8_t> c;
+  ByteWriter w(c);
+  w.str(name);
+  w.stringMap(entries);
+  mcap::MetadataIndex loc;
+  loc.offset = out.position();
+  writeMcapRecord(out, mcap::kMetadata, c);
+  loc.length = out.position() - loc.offset;
+  loc.name = name;
+  return loc;
+}
+
 void writeMcapTail(FileOutput& out, const std::vector<mcap::Schema>& schemas,
                    const std::vector<mcap::Channel>& channels,
                    const std::vector<mcap::ChunkInfo>& chunks, const McapStatistics& stats,
-                   bool crcs) {
+                   bool crcs, const std::vector<mcap::MetadataIndex>& metadata) {
   {
     std::vector<std::uint8_t> data_end;
     ByteWriter(data_end).u32(crcs ? out.crc() : 0);
@@ -88,7 +102,7 @@ void writeMcapTail(FileOutput& out, const std::vector<mcap::Schema>& schemas,
     w.u16(static_cast<std::uint16_t>(schemas.size()));
     w.u32(static_cast<std::uint32_t>(channels.size()));
     w.u32(0);  // attachments
-    w.u32(0);  // metadata records
+    w.u32(static_cast<std::uint32_t>(metadata.size()));
     w.u32(static_cast<std::uint32_t>(chunks.size()));
     w.u64(stats.message_start_time);
     w.u64(stats.message_end_time);
@@ -119,6 +133,16 @@ void writeMcapTail(FileOutput& out, const std::vector<mcap::Schema>& schemas,
       w.u64(ci.compressed_size);
       w.u64(ci.uncompressed_size);
       writeMcapRecord(out, mcap::kChunkIndex, c);
+    }
+  });
+  group(mcap::kMetadataIndex, [&] {
+    for (const auto& m : metadata) {
+      std::vector<std::uint8_t> c;
+      ByteWriter w(c);
+      w.u64(m.offset);
+      w.u64(m.length);
+      w.str(m.name);
+      writeMcapRecord(out, mcap::kMetadataIndex, c);
     }
   });
   const std::uint64_t summary_offset_start = out.position();

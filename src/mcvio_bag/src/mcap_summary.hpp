@@ -2,6 +2,7 @@
 // Writes an MCAP file's tail: Data End, summary, summary offsets, footer, magic (internal).
 #include <cstdint>
 #include <map>
+#include <string>
 #include <vector>
 
 #include "file_output.hpp"
@@ -23,11 +24,15 @@ std::vector<std::uint8_t> mcapChannelContent(const mcap::Channel& c);
 std::vector<std::uint8_t> mcapMessageIndexContent(
     std::uint16_t channel_id, const std::vector<std::pair<std::uint64_t, std::uint64_t>>& entries);
 
+/// Writes a Metadata record (name + string map) and returns where it went.
+mcap::MetadataIndex writeMcapMetadata(FileOutput& out, const std::string& name,
+                                      const std::map<std::string, std::string>& entries);
+
 /// Appends Data End (with the CRC `out` has accumulated, if `crcs`), the summary section
 /// (schemas, channels, statistics, chunk indexes), summary offsets, footer and magic.
 void writeMcapTail(FileOutput& out, const std::vector<mcap::Schema>& schemas,
                    const std::vector<mcap::Channel>& channels,
                    const std::vector<mcap::ChunkInfo>& chunks, const McapStatistics& stats,
-                   bool crcs);
+                   bool crcs, const std::vector<mcap::MetadataIndex>& metadata = {});
 
 }  // namespace mcvio::bag::detail

@@ -178,6 +178,12 @@ void McapWriter::flushChunk(const std::uint8_t* tail, std::size_t tail_size) {
   chunk_index_.clear();
 }
 
+void McapWriter::addMetadata(const std::string& name,
+                             const std::map<std::string, std::string>& entries) {
+  if (closed_) throw std::logic_error("McapWriter::addMetadata after close: " + path_.string());
+  metadata_.emplace_back(name, entries);
+}
+
 void McapWriter::close() {
   if (closed_) return;
   closed_ = true;
@@ -187,7 +193,12 @@ void McapWriter::close() {
   stats.message_start_time = start_time_;
   stats.message_end_time = end_time_;
   stats.channel_message_counts = channel_counts_;
-  detail::writeMcapTail(*out_, schemas_, channels_, chunk_indexes_, stats, options_.compute_crcs);
+  std::vector<mcap::MetadataIndex> locations;
+  for (const auto& [name, entries] : metadata_) {
+    locations.push_back(detail::writeMcapMetadata(*out_, name, entries));
+  }
+  detail::writeMcapTail(*out_, schemas_, channels_, chunk_indexes_, stats, options_.compute_crcs,
+                        locations);
   if (options_.fsync_each_chunk) out_->sync();
   out_->close();
 }

@@ -56,6 +56,10 @@ TEST(Recovery, TruncatedMcapKeepsEveryCompleteChunk) {
     McapReader intact(src / mcap_name);
     const auto chunks = intact.chunks();
     ASSERT_GT(chunks.size(), 8u);
+    const auto metadata = McapReader(src / mcap_name, McapReadMode::Recover).metadataRecords();
+    ASSERT_EQ(metadata.size(), 1u);
+    EXPECT_EQ(metadata[0].name, "rosbag2");
+    const std::uint64_t metadata_end = metadata[0].offset + metadata[0].length;
     // Cut points: inside a chunk, right after a chunk (indexes missing), inside its indexes,
     // after its indexes, inside the summary.
     std::vector<std::pair<std::uint64_t, std::size_t>> cuts;  // (size, messages expected)
@@ -92,6 +96,10 @@ TEST(Recovery, TruncatedMcapKeepsEveryCompleteChunk) {
       EXPECT_EQ(md.message_count, expected) << "cut " << cut;
       McapReader repaired(dir / mcap_name);
       EXPECT_TRUE(repaired.usedSummary());
+      // Chunks and the rosbag2 Metadata record (written at close) survive a damaged summary.
+      const std::size_t metadata_records =
+          McapReader(dir / mcap_name, McapReadMode::Recover).metadataRecords().size();
+      EXPECT_EQ(metadata_records, cut >= metadata_end ? 1u : 0u);
       SCOPED_TRACE("cut at " + std::to_string(cut) + " " + toString(c));
       expectPrefix(test::readAll(dir), expected);
     }

@@ -48,6 +48,8 @@ class McapReader : public StorageFileReader {
   /// For each chunk: were all its Message Index records present in the file after it?
   const std::vector<bool>& chunkIndexComplete() const { return chunk_index_complete_; }
   const std::vector<mcap::Schema>& schemas() const { return schemas_; }
+  /// Metadata records met by a linear scan (name and place).
+  const std::vector<mcap::MetadataIndex>& metadataRecords() const { return metadata_; }
   const std::vector<mcap::Channel>& channels() const { return channels_; }
   /// Number of messages stored outside chunks.
   std::uint64_t unchunkedMessages() const;
@@ -85,6 +87,7 @@ class McapReader : public StorageFileReader {
   std::vector<mcap::Schema> schemas_;
   std::vector<mcap::Channel> channels_;
   std::vector<mcap::ChunkInfo> chunks_;
+  std::vector<mcap::MetadataIndex> metadata_;
   std::vector<bool> chunk_index_complete_;
   std::vector<Entry> entries_;
   std::vector<TopicInfo> topics_;

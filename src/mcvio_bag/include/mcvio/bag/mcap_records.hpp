@@ -50,6 +50,13 @@ struct Channel {
   std::map<std::string, std::string> metadata;
 };
 
+/// A Metadata record's place in the file (the content of a Metadata Index record).
+struct MetadataIndex {
+  std::uint64_t offset = 0;
+  std::uint64_t length = 0;
+  std::string name;
+};
+
 /// Where one chunk sits and what it holds: the content of a Chunk Index record plus the
 /// message index entries (log_time, offset into the uncompressed records) per channel.
 struct ChunkInfo {

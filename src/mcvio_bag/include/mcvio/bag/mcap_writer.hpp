@@ -47,6 +47,11 @@ class McapWriter : public StorageFileWriter {
   std::uint64_t sizeBytes() const override;
   void close() override;
 
+  /// Adds a Metadata record (written at close, indexed in the summary). BagWriter stores
+  /// rosbag2's {"serialized_metadata": <metadata.yaml text>} under the name "rosbag2", as
+  /// rosbag2's MCAP plugin does, so a lone .mcap file still describes its bag.
+  void addMetadata(const std::string& name, const std::map<std::string, std::string>& entries);
+
   /// The library string written in the Header record.
   static constexpr const char* kLibrary = "mcvio_bag";
 
@@ -72,6 +77,7 @@ class McapWriter : public StorageFileWriter {
   std::map<std::uint16_t, std::vector<std::pair<std::uint64_t, std::uint64_t>>> chunk_index_;
   std::uint64_t chunk_start_time_ = 0;
   std::uint64_t chunk_end_time_ = 0;
+  std::vector<std::pair<std::string, std::map<std::string, std::string>>> metadata_;
   bool closed_ = false;
 };
 
