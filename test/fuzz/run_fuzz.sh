@@ -1,5 +1,5 @@
 #!/bin/sh
-# Builds the mcvio_bag libFuzzer targets with clang (ASan + UBSan) and runs each for a bounded
+# Builds the mcvio_bag libFuzzer targets (MCAP reader, sqlite3 reader, metadata.yaml parser) with clang (ASan + UBSan) and runs each for a bounded
 # time on a seed corpus of valid bags written by mcvio_bag itself.
 #   test/fuzz/run_fuzz.sh [SECONDS_PER_TARGET=60] [WORK_DIR=/tmp/mcvio_fuzz]
 # Needs clang-14 and libclang-rt-14-dev (Debian), and mcvio_cmake + mcvio_core installed by
@@ -18,10 +18,11 @@ cmake -S "$repo/src/mcvio_bag" -B "$work/build" -DCMAKE_BUILD_TYPE=RelWithDebInf
   -DMCVIO_BUILD_BENCHMARKS=OFF \
   -DCMAKE_PREFIX_PATH="$install/mcvio_cmake;$install/mcvio_core;$install" >"$work/cmake.log"
 cmake --build "$work/build" -j2 >"$work/build.log"
-mkdir -p "$work/fuzz_mcap_reader/corpus" "$work/fuzz_sqlite_reader/corpus"
-"$work/build/make_fuzz_seeds" "$work/fuzz_mcap_reader/corpus" "$work/fuzz_sqlite_reader/corpus"
+mkdir -p "$work/fuzz_mcap_reader/corpus" "$work/fuzz_sqlite_reader/corpus" "$work/fuzz_bag_metadata/corpus"
+"$work/build/make_fuzz_seeds" "$work/fuzz_mcap_reader/corpus" "$work/fuzz_sqlite_reader/corpus" \
+  "$work/fuzz_bag_metadata/corpus"
 status=0
-for target in fuzz_mcap_reader fuzz_sqlite_reader; do
+for target in fuzz_mcap_reader fuzz_sqlite_reader fuzz_bag_metadata; do
   dir="$work/$target"
   mkdir -p "$dir/artifacts"
   echo "== $target for ${seconds}s"

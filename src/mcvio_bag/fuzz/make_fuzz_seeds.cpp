@@ -1,5 +1,5 @@
 // Writes small valid bags as seed corpora for the fuzz targets:
-//   make_fuzz_seeds MCAP_CORPUS_DIR SQLITE_CORPUS_DIR
+//   make_fuzz_seeds MCAP_CORPUS_DIR SQLITE_CORPUS_DIR [METADATA_CORPUS_DIR]
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -7,8 +7,8 @@
 #include "mcvio/bag/bag_writer.hpp"
 
 int main(int argc, char** argv) {
-  if (argc != 3) {
-    std::cerr << "usage: make_fuzz_seeds MCAP_DIR SQLITE_DIR\n";
+  if (argc != 3 && argc != 4) {
+    std::cerr << "usage: make_fuzz_seeds MCAP_DIR SQLITE_DIR [METADATA_DIR]\n";
     return 2;
   }
   namespace fs = std::filesystem;
@@ -38,6 +38,10 @@ int main(int argc, char** argv) {
         if (ext == ".mcap")
           fs::copy_file(e.path(), fs::path(argv[1]) / (bag.filename().string() + ".mcap"),
                         fs::copy_options::overwrite_existing);
+        if (argc == 4 && e.path().filename() == "metadata.yaml") {
+          fs::copy_file(e.path(), fs::path(argv[3]) / (bag.filename().string() + ".yaml"),
+                        fs::copy_options::overwrite_existing);
+        }
         if (ext == ".db3")
           fs::copy_file(e.path(), fs::path(argv[2]) / (bag.filename().string() + ".db3"),
                         fs::copy_options::overwrite_existing);

@@ -93,7 +93,23 @@ Timestamp timeField(const YAML::Node& node, const std::string& key, const char* 
 
 }  // namespace
 
+namespace {
+BagMetadata parseMetadata(const std::string& yaml, const std::string& source);
+}
+
 BagMetadata bagMetadataFromYaml(const std::string& yaml, const std::string& source) {
+  try {
+    return parseMetadata(yaml, source);
+  } catch (const YAML::Exception& ex) {
+    // Anything the field checks did not name (e.g. a list where a map belongs).
+    throw InputError(source + ": unexpected structure (line " + std::to_string(ex.mark.line + 1) +
+                     "): " + ex.msg);
+  }
+}
+
+namespace {
+
+BagMetadata parseMetadata(const std::string& yaml, const std::string& source) {
   YAML::Node root;
   try {
     root = YAML::Load(yaml);
@@ -185,6 +201,8 @@ BagMetadata bagMetadataFromYaml(const std::string& yaml, const std::string& sour
   }
   return m;
 }
+
+}  // namespace
 
 BagMetadata readBagMetadata(const std::filesystem::path& bag_dir) {
   const auto path = bag_dir / kMetadataFileName;
