@@ -1,5 +1,6 @@
 #include "mcvio/estimator/marginalizer.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -40,22 +41,27 @@ bool Marginalizer::linearize(const Residual& res, Eigen::VectorXd* r, std::vecto
   const int m = res.cost->num_residuals();
   const auto& sizes = res.cost->parameter_block_sizes();
   r->resize(m);
-  std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Jg(sizes.size());
-  std::vector<double*> jac_ptrs(sizes.size());
+  // Scratch buffers are reused across residuals: resizing to the same shape does not allocate.
+  thread_local std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Jg;
+  thread_local std::vector<double*> jac_ptrs;
+  if (Jg.size() < sizes.size()) Jg.resize(sizes.size());
+  jac_ptrs.resize(sizes.size());
   for (std::size_t i = 0; i < sizes.size(); ++i) {
     Jg[i].resize(m, sizes[i]);
     jac_ptrs[i] = Jg[i].data();
   }
   if (!res.cost->Evaluate(res.parameters.data(), r->data(), jac_ptrs.data())) return false;
-  J->resize(sizes.size());
+  if (J->size() != sizes.size()) J->resize(sizes.size());
   for (std::size_t i = 0; i < sizes.size(); ++i) {
     const BlockInfo& b = blocks_.at(res.parameters[i]);
+    Eigen::MatrixXd& Jt = (*J)[i];
     if (b.kind == BlockKind::kPose) {
-      Eigen::Matrix<double, 7, 6, Eigen::RowMajor> P;
-      PoseManifold().PlusJacobian(b.data, P.data());
-      (*J)[i] = Jg[i] * P;
+      Jt.resize(m, 6);
+      Jt.leftCols(3) = Jg[i].leftCols(3);
+      Jt.rightCols(3).noalias() =
+          Jg[i].rightCols(4) * PoseManifold::quaternionPlusJacobian(Eigen::Map<const Eigen::Quaterniond>(b.data + 3));
     } else {
-      (*J)[i] = Jg[i];
+      Jt = Jg[i];
     }
   }
   if (res.loss != nullptr) {
@@ -79,62 +85,68 @@ void Marginalizer::reducedSystem(const std::vector<const double*>& order, const 
   H->setZero(dim, dim);
   g->setZero(dim);
 
+  using CouplingBlock = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 15>;
   struct LandmarkTerms {
-    Eigen::MatrixXd h;
-    Eigen::VectorXd g;
-    std::map<int, Eigen::MatrixXd> coupling;  // dense offset -> H_landmark,block
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3> h;
+    Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1> g;
+    std::vector<std::pair<int, CouplingBlock>> coupling;  // dense offset -> H_landmark,block
   };
   std::unordered_map<const double*, LandmarkTerms> landmarks;
+  landmarks.reserve(residuals_.size());
 
   Eigen::VectorXd r;
   std::vector<Eigen::MatrixXd> J;
+  std::vector<int> offs;
   for (const auto& res : residuals_) {
     if (!linearize(res, &r, &J)) throw std::logic_error("Marginalizer: a residual block could not be evaluated");
     const double* lm = nullptr;
-    for (const double* p : res.parameters) {
+    std::size_t li = 0;
+    offs.assign(res.parameters.size(), -1);
+    for (std::size_t a = 0; a < res.parameters.size(); ++a) {
+      const double* p = res.parameters[a];
       const BlockInfo& b = blocks_.at(p);
       if (b.kind == BlockKind::kLandmark && drop.count(p) != 0) {
         if (lm != nullptr) throw std::logic_error("Marginalizer: a residual touches two eliminated landmarks");
+        if (b.tangent_size > 3) throw std::logic_error("Marginalizer: landmark blocks have at most 3 dimensions");
         lm = p;
+        li = a;
+      } else {
+        offs[a] = offset.at(p);
       }
     }
     for (std::size_t a = 0; a < res.parameters.size(); ++a) {
-      const double* pa = res.parameters[a];
-      if (pa == lm) continue;
-      const int oa = offset.at(pa);
-      g->segment(oa, J[a].cols()) += J[a].transpose() * r;
+      if (offs[a] < 0) continue;
+      const auto na = J[a].cols();
+      g->segment(offs[a], na).noalias() += J[a].transpose() * r;
       for (std::size_t b = 0; b < res.parameters.size(); ++b) {
-        const double* pb = res.parameters[b];
-        if (pb == lm) continue;
-        H->block(oa, offset.at(pb), J[a].cols(), J[b].cols()) += J[a].transpose() * J[b];
+        if (offs[b] < 0) continue;
+        H->block(offs[a], offs[b], na, J[b].cols()).noalias() += J[a].transpose() * J[b];
       }
     }
     if (lm != nullptr) {
-      std::size_t li = 0;
-      while (res.parameters[li] != lm) ++li;
       LandmarkTerms& t = landmarks[lm];
       const auto k = J[li].cols();
       if (t.h.size() == 0) {
         t.h.setZero(k, k);
         t.g.setZero(k);
       }
-      t.h += J[li].transpose() * J[li];
-      t.g += J[li].transpose() * r;
+      t.h.noalias() += J[li].transpose() * J[li];
+      t.g.noalias() += J[li].transpose() * r;
       for (std::size_t a = 0; a < res.parameters.size(); ++a) {
-        if (a == li) continue;
-        const int oa = offset.at(res.parameters[a]);
-        Eigen::MatrixXd c = J[li].transpose() * J[a];
-        auto it = t.coupling.find(oa);
-        if (it == t.coupling.end())
-          t.coupling.emplace(oa, std::move(c));
-        else
-          it->second += c;
+        if (offs[a] < 0) continue;
+        if (J[a].cols() > 15) throw std::logic_error("Marginalizer: block coupled to a landmark is too large");
+        auto it = std::find_if(t.coupling.begin(), t.coupling.end(), [&](const auto& c) { return c.first == offs[a]; });
+        if (it == t.coupling.end()) {
+          t.coupling.emplace_back(offs[a], CouplingBlock::Zero(k, J[a].cols()));
+          it = t.coupling.end() - 1;
+        }
+        it->second.noalias() += J[li].transpose() * J[a];
       }
     }
   }
   // Exact Schur complement of each landmark (no residual couples two of them).
   for (const auto& [ptr, t] : landmarks) {
-    const Eigen::MatrixXd h_inv = pseudoInverse(t.h);
+    const Eigen::MatrixXd h_inv = pseudoInverse(Eigen::MatrixXd(t.h));
     for (const auto& [oa, ca] : t.coupling) {
       const Eigen::MatrixXd cah = ca.transpose() * h_inv;
       g->segment(oa, ca.cols()) -= cah * t.g;

@@ -15,8 +15,8 @@ enum class RobustLoss { kNone, kHuber, kCauchy };
 /// Every field can be set from YAML under the same key; validate() names the offending key.
 struct EstimatorOptions {
   // Windows.
-  int imu_window_size = 10;       ///< N: newest frames with full state (pose, speed, biases)
-  int keyframe_window_size = 6;   ///< M: older keyframes kept with pose only
+  int imu_window_size = 5;        ///< N: newest frames with full state (pose, speed, biases)
+  int keyframe_window_size = 5;   ///< M: older keyframes kept with pose only
   double keyframe_parallax_px = 10.0;        ///< mean parallax to the last keyframe that makes a keyframe
   double keyframe_tracked_fraction = 0.5;    ///< fewer landmarks of the last keyframe still tracked -> keyframe
 

@@ -1,0 +1,278 @@
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include "mcvio/core/input_error.hpp"
+#include "synthetic_vio_sequence.hpp"
+
+namespace mcvio::estimator {
+namespace {
+
+using testing::generateSequence;
+using testing::runEstimator;
+using testing::SyntheticConfig;
+using testing::SyntheticSequence;
+
+// Ideal features (perfect association, 1 px noise), EuRoC IMU noise, 20 s with a still start.
+// The 60 s figure is in bench_sliding_window_estimator.
+TEST(SlidingWindowEstimator, AccuracyOnSyntheticSequence) {
+  SyntheticConfig cfg;
+  cfg.duration_s = 20.0;
+  const auto seq = generateSequence(cfg);
+  const auto res = runEstimator(seq, EstimatorOptions{});
+  std::printf("20 s synthetic: tracked %d/%zu frames, ATE %.4f m, mean position NEES %.3f, max error %.4f m, median %.2f ms\n",
+              res.tracked_frames, seq.frames.size(), res.ate_m, res.mean_position_nees, res.max_abs_position_error_m,
+              res.median_total_ms);
+  EXPECT_EQ(res.resets, 0);
+  // Everything after the 1 s of IMU history the initialisation waits for is tracked.
+  EXPECT_GE(res.tracked_frames, static_cast<int>(seq.frames.size()) - 21);
+  EXPECT_LE(res.ate_m, 0.05);
+  EXPECT_LE(res.max_abs_position_error_m, 0.15);
+  // Static initialisation: gyro bias from stillness, roll/pitch from gravity.
+  const auto& first = res.outputs[20];
+  ASSERT_TRUE(first.frame_accepted);
+  EXPECT_LT((first.bias.gyro - seq.truth[20].bg).norm(), 2e-3);
+  const Eigen::Vector3d z_est = first.q_WB * Eigen::Vector3d::UnitZ(), z_true = seq.truth[20].q * Eigen::Vector3d::UnitZ();
+  EXPECT_LT(std::acos(std::min(1.0, z_est.dot(z_true))), 0.02);
+}
+
+// Position NEES over a few independent runs (one run's time average is dominated by a single
+// drift realisation, so several seeds are averaged).
+TEST(SlidingWindowEstimator, PositionNeesIsConsistent) {
+  double nees = 0;
+  const int runs = 3;
+  for (int s = 0; s < runs; ++s) {
+    SyntheticConfig cfg;
+    cfg.duration_s = 12.0;
+    cfg.seed = 100 + static_cast<std::uint32_t>(s);
+    const auto res = runEstimator(generateSequence(cfg), EstimatorOptions{});
+    std::printf("seed %u: ATE %.4f m, mean position NEES %.3f\n", cfg.seed, res.ate_m, res.mean_position_nees);
+    nees += res.mean_position_nees / runs;
+  }
+  std::printf("mean position NEES over %d runs: %.3f (3 = consistent)\n", runs, nees);
+  EXPECT_GT(nees, 0.5);
+  EXPECT_LT(nees, 9.0);
+}
+
+TEST(SlidingWindowEstimator, MovingStart) {
+  SyntheticConfig cfg;
+  cfg.duration_s = 10.0;
+  cfg.still_s = -4.0;  // already moving when the recording starts
+  const auto seq = generateSequence(cfg);
+  const auto res = runEstimator(seq, EstimatorOptions{});
+  ASSERT_GT(res.tracked_frames, 150);
+  bool moving_init = false;
+  for (const auto& o : res.outputs) moving_init |= o.message.find("moving start") != std::string::npos;
+  EXPECT_TRUE(moving_init);
+  EXPECT_EQ(res.resets, 0);
+  EXPECT_LE(res.ate_m, 0.10);
+  std::printf("moving start: ATE %.4f m over %d frames\n", res.ate_m, res.tracked_frames);
+}
+
+TEST(SlidingWindowEstimator, ZeroVelocityDetectedAtRest) {
+  SyntheticConfig cfg;
+  cfg.duration_s = 3.0;
+  cfg.still_s = 10.0;  // at rest throughout
+  cfg.pixel_noise_px = 0.2;
+  const auto seq = generateSequence(cfg);
+  const auto res = runEstimator(seq, EstimatorOptions{});
+  int zero_velocity = 0;
+  for (const auto& o : res.outputs) zero_velocity += o.zero_velocity ? 1 : 0;
+  EXPECT_GT(zero_velocity, res.tracked_frames / 2);
+  const auto& last = res.outputs.back();
+  EXPECT_LT(last.v_WB.norm(), 0.01);
+  EXPECT_LT(last.p_WB.norm(), 0.01);
+}
+
+// Feeds a sequence through the estimator with a hook that may alter each step.
+struct Feeder {
+  const SyntheticSequence& seq;
+  SlidingWindowEstimator est;
+  std::size_t k = 0;
+  explicit Feeder(const SyntheticSequence& s, EstimatorOptions o = {})
+      : seq(s), est(o, s.T_BC0, s.T_BC1, s.focal_px, s.noise) {}
+  void imuUpTo(Timestamp t) {
+    while (k < seq.imu.size() && seq.imu[k].t <= t) est.addImu(seq.imu[k++]);
+  }
+  EstimatorOutput frame(std::size_t i) {
+    imuUpTo(seq.frames[i].t);
+    return est.addFrame(seq.frames[i]);
+  }
+};
+
+SyntheticSequence shortSequence() {
+  SyntheticConfig cfg;
+  cfg.duration_s = 5.0;
+  cfg.still_s = 1.5;
+  return generateSequence(cfg);
+}
+
+TEST(SlidingWindowEstimatorInput, BadImuSamplesAreSkipped) {
+  const auto seq = shortSequence();
+  Feeder f(seq);
+  for (std::size_t i = 0; i < 40; ++i) f.frame(i);
+  ImuSample nan_sample = seq.imu[f.k];
+  nan_sample.accel.x() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(f.est.addImu(nan_sample));
+  ImuSample inf_sample = seq.imu[f.k];
+  inf_sample.gyro.z() = std::numeric_limits<double>::infinity();
+  EXPECT_FALSE(f.est.addImu(inf_sample));
+  EXPECT_FALSE(f.est.addImu(seq.imu[f.k - 1]));  // duplicate time
+  EXPECT_FALSE(f.est.addImu(seq.imu[f.k - 5]));  // backwards
+  EstimatorOutput last;
+  for (std::size_t i = 40; i < seq.frames.size(); ++i) last = f.frame(i);
+  EXPECT_TRUE(last.frame_accepted);
+  EXPECT_EQ(last.status, EstimatorStatus::kTracking);
+  EXPECT_EQ(f.est.resetCount(), 0);
+  EXPECT_LT((last.p_WB - seq.truth.back().p).norm(), 0.1);
+}
+
+TEST(SlidingWindowEstimatorInput, FrameWithoutFeaturesPropagatesWithImu) {
+  const auto seq = shortSequence();
+  Feeder f(seq);
+  for (std::size_t i = 0; i < 50; ++i) f.frame(i);
+  FeatureFrame empty = seq.frames[50];
+  empty.features.clear();
+  f.imuUpTo(empty.t);
+  const auto out = f.est.addFrame(empty);
+  EXPECT_TRUE(out.frame_accepted);
+  EXPECT_EQ(out.status, EstimatorStatus::kTracking);
+  EXPECT_NE(out.message.find("no features"), std::string::npos) << out.message;
+  EXPECT_LT((out.p_WB - seq.truth[50].p).norm(), 0.1);
+  EstimatorOutput last;
+  for (std::size_t i = 51; i < seq.frames.size(); ++i) last = f.frame(i);
+  EXPECT_EQ(last.status, EstimatorStatus::kTracking);
+  EXPECT_LT((last.p_WB - seq.truth.back().p).norm(), 0.1);
+}
+
+TEST(SlidingWindowEstimatorInput, FrameBeforeItsImuIsSkippedThenTrackingContinues) {
+  const auto seq = shortSequence();
+  Feeder f(seq);
+  for (std::size_t i = 0; i < 50; ++i) f.frame(i);
+  // Frame 50 arrives before the IMU samples that reach its time.
+  const auto early = f.est.addFrame(seq.frames[50]);
+  EXPECT_FALSE(early.frame_accepted);
+  EXPECT_NE(early.message.find("no IMU"), std::string::npos) << early.message;
+  EstimatorOutput last;
+  for (std::size_t i = 51; i < seq.frames.size(); ++i) last = f.frame(i);
+  EXPECT_TRUE(last.frame_accepted);
+  EXPECT_EQ(f.est.resetCount(), 0);
+  EXPECT_LT((last.p_WB - seq.truth.back().p).norm(), 0.1);
+}
+
+TEST(SlidingWindowEstimatorInput, DuplicateAndBackwardsFramesAreRejected) {
+  const auto seq = shortSequence();
+  Feeder f(seq);
+  for (std::size_t i = 0; i < 50; ++i) f.frame(i);
+  const auto dup = f.est.addFrame(seq.frames[49]);
+  EXPECT_FALSE(dup.frame_accepted);
+  EXPECT_NE(dup.message.find("duplicate"), std::string::npos) << dup.message;
+  const auto back = f.est.addFrame(seq.frames[30]);
+  EXPECT_FALSE(back.frame_accepted);
+  EXPECT_NE(back.message.find("older"), std::string::npos) << back.message;
+  const auto next = f.frame(50);
+  EXPECT_TRUE(next.frame_accepted);
+  EXPECT_EQ(f.est.resetCount(), 0);
+}
+
+TEST(SlidingWindowEstimatorInput, NonFiniteFeaturesAreSkipped) {
+  const auto seq = shortSequence();
+  Feeder f(seq);
+  for (std::size_t i = 0; i < 50; ++i) f.frame(i);
+  FeatureFrame bad = seq.frames[50];
+  for (std::size_t j = 0; j < bad.features.size(); j += 3) bad.features[j].normalized.x() = std::nan("");
+  bad.features[1].camera_index = 7;
+  f.imuUpTo(bad.t);
+  const auto out = f.est.addFrame(bad);
+  EXPECT_TRUE(out.frame_accepted);
+  EXPECT_NE(out.message.find("non-finite"), std::string::npos) << out.message;
+  EXPECT_TRUE(out.p_WB.allFinite());
+  EXPECT_LT((out.p_WB - seq.truth[50].p).norm(), 0.1);
+}
+
+// A hole in the IMU stream larger than max_imu_gap_s resets the estimator with a message; the
+// position continues from the last good estimate (no jump) and tracking resumes.
+TEST(SlidingWindowEstimatorInput, ImuGapResetsWithoutJump) {
+  const auto seq = shortSequence();
+  Feeder f(seq);
+  EstimatorOutput before;
+  for (std::size_t i = 0; i < 60; ++i) before = f.frame(i);
+  // Drop 0.3 s of IMU.
+  while (f.k < seq.imu.size() && seq.imu[f.k].t < seq.frames[60].t + 300'000'000) ++f.k;
+  EstimatorOutput out;
+  std::size_t i = 61;
+  for (; i < seq.frames.size(); ++i) {
+    out = f.frame(i);
+    if (out.status == EstimatorStatus::kReset) break;
+  }
+  ASSERT_EQ(out.status, EstimatorStatus::kReset);
+  EXPECT_NE(out.message.find("IMU gap"), std::string::npos) << out.message;
+  EXPECT_EQ(f.est.resetCount(), 1);
+  EXPECT_TRUE(out.frame_accepted);
+  EXPECT_LT((out.p_WB - before.p_WB).norm(), 0.05);
+  EstimatorOutput last;
+  for (++i; i < seq.frames.size(); ++i) last = f.frame(i);
+  EXPECT_EQ(last.status, EstimatorStatus::kTracking);
+  EXPECT_TRUE(last.frame_accepted);
+}
+
+// Corrupted accelerometer data (a 0.3 s burst of +80 m/s^2) must be caught as a failure (jump
+// against the visual solution or implausible state) and reset, never crash or go non-finite.
+TEST(SlidingWindowEstimatorInput, CorruptImuIsDetectedAndReset) {
+  const auto seq = shortSequence();
+  SyntheticSequence bad = seq;
+  for (auto& s : bad.imu)
+    if (s.t > seq.frames[60].t && s.t < seq.frames[66].t) s.accel.x() += 80.0;
+  Feeder f(bad);
+  bool reset_seen = false;
+  EstimatorOutput last;
+  for (std::size_t i = 0; i < bad.frames.size(); ++i) {
+    last = f.frame(i);
+    if (last.status == EstimatorStatus::kReset) {
+      reset_seen = true;
+      EXPECT_FALSE(last.message.empty());
+    }
+    if (last.frame_accepted) {
+      EXPECT_TRUE(last.p_WB.allFinite());
+    }
+  }
+  EXPECT_TRUE(reset_seen);
+  EXPECT_GE(f.est.resetCount(), 1);
+  EXPECT_EQ(last.status, EstimatorStatus::kTracking);
+}
+
+TEST(EstimatorOptions, LoadsFromYamlAndNamesBadKeys) {
+  const YAML::Node ok = YAML::Load("imu_window_size: 7\nrobust_loss: cauchy\nobservation_sigma_px: 0.7\n");
+  const auto o = EstimatorOptions::fromYaml(ok, "test.yaml");
+  EXPECT_EQ(o.imu_window_size, 7);
+  EXPECT_EQ(o.robust_loss, RobustLoss::kCauchy);
+  EXPECT_DOUBLE_EQ(o.observation_sigma_px, 0.7);
+  EXPECT_EQ(o.keyframe_window_size, EstimatorOptions{}.keyframe_window_size);
+
+  auto expectError = [](const std::string& yaml, const std::string& key) {
+    try {
+      EstimatorOptions::fromYaml(YAML::Load(yaml), "test.yaml");
+      ADD_FAILURE() << "no error for " << yaml;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("test.yaml"), std::string::npos) << e.what();
+    }
+  };
+  expectError("imu_window_size: 1\n", "imu_window_size");
+  expectError("observation_sigma_px: -1\n", "observation_sigma_px");
+  expectError("max_iterations: many\n", "max_iterations");
+  expectError("robust_loss: tukey\n", "robust_loss");
+  expectError("imu_windw_size: 4\n", "imu_windw_size");
+
+  const std::string path = ::testing::TempDir() + "/estimator_options_test.yaml";
+  std::ofstream(path) << "estimator:\n  keyframe_window_size: 3\n";
+  EXPECT_EQ(EstimatorOptions::fromYamlFile(path).keyframe_window_size, 3);
+  EXPECT_THROW(EstimatorOptions::fromYamlFile(path + ".missing"), InputError);
+}
+
+}  // namespace
+}  // namespace mcvio::estimator
