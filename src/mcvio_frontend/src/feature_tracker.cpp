@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <ctime>
 
@@ -106,31 +107,74 @@ void FeatureTracker::prepareImage(const cv::Mat& raw, cv::Mat* out) const {
     raw.convertTo(*out, CV_8U, alpha, 128.0 - alpha * mean[0]);
     return;
   }
-  // Local: mean and std per block, blended bilinearly, so each region gets its own gain.
+  // Local: gain and offset per block from its mean and std, blended bilinearly between block
+  // centres, so each region is normalised on its own (saturated areas, vignetting, the two
+  // cameras' different responses). One pass for the statistics, one for the output.
   const int block = options_.normalization_block_px;
-  const cv::Size coarse(std::max(1, raw.cols / block), std::max(1, raw.rows / block));
-  cv::Mat f, f2, mean_c, sq_c;
-  raw.convertTo(f, CV_32F);
-  cv::multiply(f, f, f2);
-  cv::resize(f, mean_c, coarse, 0, 0, cv::INTER_AREA);
-  cv::resize(f2, sq_c, coarse, 0, 0, cv::INTER_AREA);
-  cv::Mat gain_c(coarse, CV_32F), offset_c(coarse, CV_32F);
-  for (int r = 0; r < coarse.height; ++r) {
-    for (int c = 0; c < coarse.width; ++c) {
-      const float m = mean_c.at<float>(r, c);
-      const float var = std::max(sq_c.at<float>(r, c) - m * m, 0.0f);
-      // The floor keeps flat, dark regions from turning sensor noise into texture.
-      const float g = static_cast<float>(kContrast) / std::sqrt(var + 16.0f);
-      gain_c.at<float>(r, c) = g;
-      offset_c.at<float>(r, c) = 128.0f - g * m;
+  const int w = raw.cols, h = raw.rows;
+  const int gw = (w + block - 1) / block, gh = (h + block - 1) / block;
+  std::vector<double> sum(static_cast<std::size_t>(gw * gh), 0.0), sum2(sum.size(), 0.0);
+  std::vector<int> count(sum.size(), 0);
+  for (int y = 0; y < h; ++y) {
+    const uchar* row = raw.ptr<uchar>(y);
+    const int by = y / block;
+    for (int bx = 0; bx < gw; ++bx) {
+      const int x0 = bx * block, x1 = std::min(w, x0 + block);
+      std::uint32_t s1 = 0, s2 = 0;
+      for (int x = x0; x < x1; ++x) {
+        s1 += row[x];
+        s2 += static_cast<std::uint32_t>(row[x]) * row[x];
+      }
+      const std::size_t k = static_cast<std::size_t>(by * gw + bx);
+      sum[k] += s1;
+      sum2[k] += s2;
+      count[k] += x1 - x0;
     }
   }
-  cv::Mat gain, offset;
-  cv::resize(gain_c, gain, raw.size(), 0, 0, cv::INTER_LINEAR);
-  cv::resize(offset_c, offset, raw.size(), 0, 0, cv::INTER_LINEAR);
-  cv::multiply(f, gain, f);
-  cv::add(f, offset, f);
-  f.convertTo(*out, CV_8U);
+  std::vector<float> gain(sum.size()), offset(sum.size());
+  for (std::size_t k = 0; k < sum.size(); ++k) {
+    const double m = sum[k] / count[k];
+    const double var = std::max(sum2[k] / count[k] - m * m, 0.0);
+    // The floor keeps flat, dark regions from turning sensor noise into texture.
+    const double g = kContrast / std::sqrt(var + 16.0);
+    gain[k] = static_cast<float>(g);
+    offset[k] = static_cast<float>(128.0 - g * m);
+  }
+  // Horizontal blending weights per column: between the centres of blocks c0 and c0 + 1.
+  std::vector<int> c0(static_cast<std::size_t>(w));
+  std::vector<float> wx(static_cast<std::size_t>(w));
+  for (int x = 0; x < w; ++x) {
+    const float f = std::clamp((x + 0.5f) / block - 0.5f, 0.0f, static_cast<float>(gw - 1));
+    c0[static_cast<std::size_t>(x)] = std::min(static_cast<int>(f), std::max(gw - 2, 0));
+    wx[static_cast<std::size_t>(x)] = f - static_cast<float>(c0[static_cast<std::size_t>(x)]);
+  }
+  out->create(h, w, CV_8UC1);
+  std::vector<float> grow(static_cast<std::size_t>(gw)), orow(static_cast<std::size_t>(gw));
+  std::vector<float> gx(static_cast<std::size_t>(w)), ox(static_cast<std::size_t>(w));
+  for (int y = 0; y < h; ++y) {
+    const float f = std::clamp((y + 0.5f) / block - 0.5f, 0.0f, static_cast<float>(gh - 1));
+    const int r0 = std::min(static_cast<int>(f), std::max(gh - 2, 0));
+    const int r1 = std::min(r0 + 1, gh - 1);
+    const float wy = f - static_cast<float>(r0);
+    for (int c = 0; c < gw; ++c) {
+      const std::size_t a = static_cast<std::size_t>(r0 * gw + c), b = static_cast<std::size_t>(r1 * gw + c);
+      grow[static_cast<std::size_t>(c)] = gain[a] + wy * (gain[b] - gain[a]);
+      orow[static_cast<std::size_t>(c)] = offset[a] + wy * (offset[b] - offset[a]);
+    }
+    for (int x = 0; x < w; ++x) {
+      const std::size_t xi = static_cast<std::size_t>(x);
+      const std::size_t ca = static_cast<std::size_t>(c0[xi]);
+      const std::size_t cb = std::min(ca + 1, static_cast<std::size_t>(gw - 1));
+      gx[xi] = grow[ca] + wx[xi] * (grow[cb] - grow[ca]);
+      ox[xi] = orow[ca] + wx[xi] * (orow[cb] - orow[ca]);
+    }
+    const uchar* src = raw.ptr<uchar>(y);
+    uchar* dst = out->ptr<uchar>(y);
+    for (int x = 0; x < w; ++x) {
+      const float v = static_cast<float>(src[x]) * gx[static_cast<std::size_t>(x)] + ox[static_cast<std::size_t>(x)];
+      dst[x] = static_cast<uchar>(std::clamp(v + 0.5f, 0.0f, 255.0f));
+    }
+  }
 }
 
 void FeatureTracker::buildPyramid(const cv::Mat& image, std::vector<cv::Mat>* pyramid) const {

@@ -30,7 +30,7 @@ struct FrontendOptions {
   /// Photometric normalisation before KLT, so gain/exposure changes do not break tracks:
   /// "none"; "global" (whole-image mean/std); "local" (mean/std over blocks of
   /// normalization_block_px, bilinearly blended: also copes with partial saturation and vignetting).
-  std::string exposure_normalization = "global";
+  std::string exposure_normalization = "local";
   int normalization_block_px = 32;
   long long max_imu_gap_ns = 30'000'000;  ///< larger holes in the IMU stream disable prediction
 
