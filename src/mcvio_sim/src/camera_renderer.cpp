@@ -22,6 +22,8 @@ struct CameraQuad {
   float d;        // n . o: the plane is n . p = d
   float zmin;     // nearest depth of the quad's visible part
   float bounds[4];  // normalised x min/max, y min/max of its visible part
+  float poly_x[8], poly_y[8];  // the visible part projected to the normalised plane (convex)
+  int poly_n;
   float inv_texel, off_u, off_v, brightness;
   const MipmappedTexture* texture;
   std::uint8_t body;
@@ -52,8 +54,31 @@ inline float fastLog2(float x) {
   return e + (-0.34484843f * m + 2.02466578f) * m - 1.67487759f;
 }
 
+/// True unless one edge of the convex polygon separates it from the rectangle.
+bool polygonMayOverlap(const CameraQuad& q, float x0, float x1, float y0, float y1) {
+  // Orientation of the polygon decides which side of an edge is outside.
+  float area = 0;
+  for (int i = 0; i < q.poly_n; ++i) {
+    const int j = (i + 1) % q.poly_n;
+    area += q.poly_x[i] * q.poly_y[j] - q.poly_x[j] * q.poly_y[i];
+  }
+  if (std::abs(area) < 1e-12f) return true;  // degenerate (edge-on): keep, the ray test decides
+  const float sign = area > 0 ? 1.0f : -1.0f;
+  for (int i = 0; i < q.poly_n; ++i) {
+    const int j = (i + 1) % q.poly_n;
+    const float ex = q.poly_x[j] - q.poly_x[i], ey = q.poly_y[j] - q.poly_y[i];
+    // Outward normal of a counter-clockwise polygon is (ey, -ex).
+    const float nx = sign * ey, ny = -sign * ex;
+    const float c = nx * q.poly_x[i] + ny * q.poly_y[i];
+    const float m = std::min(std::min(nx * x0 + ny * y0, nx * x1 + ny * y0),
+                             std::min(nx * x0 + ny * y1, nx * x1 + ny * y1));
+    if (m > c + 1e-6f) return false;
+  }
+  return true;
+}
+
 /// Clips the polygon against z >= kNear; returns false when nothing remains.
-bool clipAndBound(const Eigen::Vector3f (&corners)[4], float* bounds, float* zmin) {
+bool clipAndBound(const Eigen::Vector3f (&corners)[4], CameraQuad* quad, float* bounds, float* zmin) {
   Eigen::Vector3f in[8], out[8];
   int n = 4;
   for (int i = 0; i < 4; ++i) in[i] = corners[i];
@@ -72,9 +97,12 @@ bool clipAndBound(const Eigen::Vector3f (&corners)[4], float* bounds, float* zmi
   bounds[0] = bounds[2] = std::numeric_limits<float>::max();
   bounds[1] = bounds[3] = std::numeric_limits<float>::lowest();
   *zmin = std::numeric_limits<float>::max();
+  quad->poly_n = m;
   for (int i = 0; i < m; ++i) {
     const float z = std::max(out[i].z(), kNear);
     const float x = out[i].x() / z, y = out[i].y() / z;
+    quad->poly_x[i] = x;
+    quad->poly_y[i] = y;
     bounds[0] = std::min(bounds[0], x);
     bounds[1] = std::max(bounds[1], x);
     bounds[2] = std::min(bounds[2], y);
@@ -167,7 +195,7 @@ void CameraRenderer::render(const Scene& scene, Timestamp t, const Eigen::Isomet
       const Eigen::Vector3f corners[4] = {c.o, c.o + c.size_u * c.eu,
                                           c.o + c.size_u * c.eu + c.size_v * c.ev,
                                           c.o + c.size_v * c.ev};
-      if (!clipAndBound(corners, c.bounds, &c.zmin)) continue;
+      if (!clipAndBound(corners, &c, c.bounds, &c.zmin)) continue;
       c.inv_texel = static_cast<float>(1.0 / q.texel_size);
       c.off_u = static_cast<float>(q.texture_offset.x());
       c.off_v = static_cast<float>(q.texture_offset.y());
@@ -202,7 +230,8 @@ void CameraRenderer::render(const Scene& scene, Timestamp t, const Eigen::Isomet
       cands.clear();
       for (const CameraQuad& q : quads)
         if (q.bounds[0] <= tile.nx_max && q.bounds[1] >= tile.nx_min &&
-            q.bounds[2] <= tile.ny_max && q.bounds[3] >= tile.ny_min)
+            q.bounds[2] <= tile.ny_max && q.bounds[3] >= tile.ny_min &&
+            polygonMayOverlap(q, tile.nx_min, tile.nx_max, tile.ny_min, tile.ny_max))
           cands.push_back(&q);
       std::sort(cands.begin(), cands.end(),
                 [](const CameraQuad* a, const CameraQuad* b) { return a->zmin < b->zmin; });

@@ -234,12 +234,13 @@ MipmappedTexture MipmappedTexture::generate(TextureStyle style, int size, std::u
   return MipmappedTexture(size, canvas.quantize());
 }
 
-MipmappedTexture::MipmappedTexture(int size, std::vector<std::uint8_t> level0) : size_(size) {
+MipmappedTexture::MipmappedTexture(int size, const std::vector<std::uint8_t>& level0) : size_(size) {
   if (!isPowerOfTwo(size) || level0.size() != static_cast<size_t>(size) * size)
     throw std::invalid_argument("MipmappedTexture: level 0 must be size x size, power of two");
-  levels_.push_back(std::move(level0));
+  // Build the pyramid row-major, then store every level blocked.
+  std::vector<std::vector<std::uint8_t>> rows{level0};
   for (int n = size / 2; n >= 1; n /= 2) {
-    const auto& prev = levels_.back();
+    const auto& prev = rows.back();
     const int pn = 2 * n;
     std::vector<std::uint8_t> next(static_cast<size_t>(n) * n);
     for (int y = 0; y < n; ++y)
@@ -248,7 +249,14 @@ MipmappedTexture::MipmappedTexture(int size, std::vector<std::uint8_t> level0) :
         next[static_cast<size_t>(y) * n + x] =
             static_cast<std::uint8_t>((prev[i] + prev[i + 1] + prev[i + pn] + prev[i + pn + 1] + 2) / 4);
       }
-    levels_.push_back(std::move(next));
+    rows.push_back(std::move(next));
+  }
+  for (size_t l = 0; l < rows.size(); ++l) {
+    const int n = size >> l;
+    std::vector<std::uint8_t> blocked(rows[l].size());
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) blocked[index(n, x, y)] = rows[l][static_cast<size_t>(y) * n + x];
+    levels_.push_back(std::move(blocked));
   }
 }
 

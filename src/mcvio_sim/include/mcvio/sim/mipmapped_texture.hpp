@@ -14,16 +14,18 @@ enum class TextureStyle : std::uint8_t {
 };
 
 /// A square, tileable (wrap-around), 8-bit grayscale texture with a full mip-map pyramid.
-/// Sampling is trilinear: bilinear inside the two levels bracketing the requested level of
-/// detail, so distant surfaces are pre-filtered instead of aliasing.
+/// Sampling blends bilinear samples of the two levels bracketing the requested level of detail
+/// (narrowed to the middle half of each octave to halve memory traffic), so distant surfaces are
+/// pre-filtered instead of aliasing and level changes leave no seams. Texels are stored in 8x8
+/// blocks of one cache line each, since neighbouring pixels touch 2-D neighbourhoods.
 class MipmappedTexture {
  public:
   /// Builds a procedural texture of size x size texels (a power of two >= 16), reproducible for
   /// a seed.
   static MipmappedTexture generate(TextureStyle style, int size, std::uint64_t seed);
 
-  /// Wraps an existing level-0 image (size x size, power of two) and builds its pyramid.
-  MipmappedTexture(int size, std::vector<std::uint8_t> level0);
+  /// Wraps an existing row-major level-0 image (size x size, power of two) and builds its pyramid.
+  MipmappedTexture(int size, const std::vector<std::uint8_t>& level0);
 
   /// Intensity [0, 255] at texel coordinates (u, v) of level 0 (texel centres at +0.5), with
   /// lod = log2(texels per pixel); lod <= 0 samples level 0.
@@ -32,19 +34,29 @@ class MipmappedTexture {
     if (lod <= 0.0f) return bilinear(0, u, v);
     if (lod >= static_cast<float>(last)) return levels_.back()[0];
     const int l0 = static_cast<int>(lod);
-    const float f = lod - static_cast<float>(l0);
+    // Blend only in the middle of the octave ("brilinear"): continuous, and one level elsewhere.
+    const float f = (lod - static_cast<float>(l0) - 0.25f) * 2.0f;
     const float s0 = 1.0f / static_cast<float>(1 << l0);
-    const float a = bilinear(l0, u * s0, v * s0);
-    if (f < 1e-3f) return a;
+    if (f <= 0.0f) return bilinear(l0, u * s0, v * s0);
     const float b = bilinear(l0 + 1, u * s0 * 0.5f, v * s0 * 0.5f);
+    if (f >= 1.0f) return b;
+    const float a = bilinear(l0, u * s0, v * s0);
     return a + f * (b - a);
   }
 
   int size() const { return size_; }
   int levels() const { return static_cast<int>(levels_.size()); }
-  const std::vector<std::uint8_t>& level(int l) const { return levels_[static_cast<size_t>(l)]; }
+  /// Texel (x, y) of level l (0 <= x, y < size >> l).
+  std::uint8_t texel(int l, int x, int y) const {
+    return levels_[static_cast<size_t>(l)][index(size_ >> l, x, y)];
+  }
 
  private:
+  static size_t index(int n, int x, int y) {
+    if (n < 8) return static_cast<size_t>(y) * n + x;
+    return (static_cast<size_t>(y >> 3) * (n >> 3) + (x >> 3)) * 64 + ((y & 7) << 3) + (x & 7);
+  }
+
   float bilinear(int level, float x, float y) const {
     const int n = size_ >> level;
     const int mask = n - 1;
@@ -56,15 +68,16 @@ class MipmappedTexture {
     const float ax = fx - static_cast<float>(ix), ay = fy - static_cast<float>(iy);
     const int x0 = ix & mask, y0 = iy & mask;
     const int x1 = (x0 + 1) & mask, y1 = (y0 + 1) & mask;
-    const float a = img[y0 * n + x0], b = img[y0 * n + x1];
-    const float c = img[y1 * n + x0], d = img[y1 * n + x1];
+    const float a = img[index(n, x0, y0)], b = img[index(n, x1, y0)];
+    const float c = img[index(n, x0, y1)], d = img[index(n, x1, y1)];
     const float top = a + ax * (b - a), bottom = c + ax * (d - c);
     return top + ay * (bottom - top);
   }
   /// A power of two larger than any texture: keeps coordinates of far-away texels positive.
   static constexpr float kWrapBias = 65536.0f;
+
   int size_ = 0;
-  std::vector<std::vector<std::uint8_t>> levels_;
+  std::vector<std::vector<std::uint8_t>> levels_;  // each in 8x8 blocks (row-major below 8x8)
 };
 
 }  // namespace mcvio::sim
