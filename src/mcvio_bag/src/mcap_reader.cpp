@@ -383,6 +383,8 @@ void McapReader::loadSummary(std::uint64_t footer_pos, std::uint64_t summary_sta
     }
   }
   std::vector<mcap::ChunkInfo> indexes;
+  bool have_statistics = false;
+  std::uint64_t stated_messages = 0;
   std::uint64_t pos = summary_start;
   while (pos < end) {
     if (end - pos < mcap::kRecordPrefix) fail(pos, "truncated summary record");
@@ -395,6 +397,10 @@ void McapReader::loadSummary(std::uint64_t footer_pos, std::uint64_t summary_sta
         addSchema(pos, body, len);
       } else if (op == mcap::kChannel) {
         addChannel(pos, body, len);
+      } else if (op == mcap::kStatistics) {
+        ByteReader r(body, len);
+        stated_messages = r.u64();
+        have_statistics = true;
       } else if (op == mcap::kChunkIndex) {
         ByteReader r(body, len);
         mcap::ChunkInfo ci;
@@ -465,6 +471,18 @@ void McapReader::loadSummary(std::uint64_t footer_pos, std::uint64_t summary_sta
         fail(off, std::string("malformed Message Index: ") + e.what());
       }
     }
+  }
+  if (have_statistics ? stated_messages != entries_.size() : indexes.empty()) {
+    // Messages outside chunks have no index (or no statistics to check against): the summary
+    // cannot list them all, so read the data section itself.
+    used_summary_ = false;
+    schemas_.clear();
+    channels_.clear();
+    chunks_.clear();
+    chunk_index_complete_.clear();
+    entries_.clear();
+    linearScan(McapReadMode::Strict, summary_start);
+    return;
   }
   std::stable_sort(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) {
     if (a.log_time != b.log_time) return a.log_time < b.log_time;

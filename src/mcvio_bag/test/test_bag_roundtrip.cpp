@@ -6,6 +6,9 @@
 #include <tuple>
 
 #include "bag_test_util.hpp"
+#include "byte_io.hpp"
+#include "file_output.hpp"
+#include "mcap_summary.hpp"
 #include "mcvio/bag/bag_info.hpp"
 #include "mcvio/bag/bag_reader.hpp"
 #include "mcvio/bag/bag_writer.hpp"
@@ -260,6 +263,59 @@ TEST(BagWriterOptions, LoadsFromYamlAndNamesBadKeys) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("key 'compression'"), std::string::npos) << e.what();
   }
+}
+
+}  // namespace
+}  // namespace mcvio::bag
+
+namespace mcvio::bag {
+namespace {
+
+// Another writer may put messages outside chunks; they have no index, so the reader must not
+// trust the summary alone.
+TEST(McapReader, ReadsMessagesOutsideChunks) {
+  const auto path = test::freshPath("unchunked.mcap");
+  {
+    detail::FileOutput out(path);
+    out.write(mcap::kMagic, 8);
+    std::vector<std::uint8_t> header;
+    detail::ByteWriter hw(header);
+    hw.str("ros2");
+    hw.str("other-writer");
+    detail::writeMcapRecord(out, mcap::kHeader, header);
+    mcap::Schema s{1, "std_msgs/msg/String", "ros2msg", "string data\n"};
+    mcap::Channel c{3, 1, "/plain", "cdr", {{"offered_qos_profiles", ""}}};
+    detail::writeMcapRecord(out, mcap::kSchema, detail::mcapSchemaContent(s));
+    detail::writeMcapRecord(out, mcap::kChannel, detail::mcapChannelContent(c));
+    for (std::uint32_t i = 0; i < 3; ++i) {
+      std::vector<std::uint8_t> m;
+      detail::ByteWriter w(m);
+      w.u16(3);
+      w.u32(i);
+      w.u64(50 - i * 10);  // out of order on purpose
+      w.u64(7);
+      const auto d = test::payload(i, 40);
+      w.raw(d.data(), d.size());
+      detail::writeMcapRecord(out, mcap::kMessage, m);
+    }
+    detail::McapStatistics stats;
+    stats.message_count = 3;
+    stats.message_start_time = 30;
+    stats.message_end_time = 50;
+    stats.channel_message_counts[3] = 3;
+    detail::writeMcapTail(out, {s}, {c}, {}, stats, true);
+  }
+  McapReader r(path);
+  EXPECT_FALSE(r.usedSummary());
+  EXPECT_EQ(r.unchunkedMessages(), 3u);
+  BagMessage m;
+  std::vector<Timestamp> times;
+  while (r.next(m)) {
+    EXPECT_EQ(m.topic, "/plain");
+    EXPECT_EQ(m.data, test::payload(m.sequence, 40));
+    times.push_back(m.log_time);
+  }
+  EXPECT_EQ(times, (std::vector<Timestamp>{30, 40, 50}));
 }
 
 }  // namespace
