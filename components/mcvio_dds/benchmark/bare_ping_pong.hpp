@@ -1,11 +1,10 @@
 #pragma once
-#include <stdexcept>
-#include <string>
-
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <stdexcept>
+#include <string>
 
 #include "bare_participant.hpp"
 #include "bare_qos.hpp"
@@ -37,13 +36,19 @@ class BareProber : public Prober<T>, public BareReaderListener<T, BareProber<T>>
  public:
   using PubSubType = typename interfaces::RosType<T>::PubSubType;
 
-  BareProber(BareParticipant& participant, const std::string& ping_topic, const std::string& pong_topic)
+  BareProber(BareParticipant& participant, const std::string& ping_topic,
+             const std::string& pong_topic)
       : participant_(participant) {
-    auto* ping = participant.topic(ping_topic, eprosima::fastdds::dds::TypeSupport(new PubSubType()));
-    auto* pong = participant.topic(pong_topic, eprosima::fastdds::dds::TypeSupport(new PubSubType()));
-    reader_ = participant.subscriber()->create_datareader(pong, bareReaderQos(BareProfile::kDefaults), this);
-    writer_ = participant.publisher()->create_datawriter(ping, bareWriterQos(BareProfile::kLossless));
-    if (!reader_ || !writer_) throw std::runtime_error("Fast DDS could not create the bare prober's endpoints");
+    auto* ping =
+        participant.topic(ping_topic, eprosima::fastdds::dds::TypeSupport(new PubSubType()));
+    auto* pong =
+        participant.topic(pong_topic, eprosima::fastdds::dds::TypeSupport(new PubSubType()));
+    reader_ = participant.subscriber()->create_datareader(
+        pong, bareReaderQos(BareProfile::kDefaults), this);
+    writer_ =
+        participant.publisher()->create_datawriter(ping, bareWriterQos(BareProfile::kLossless));
+    if (!reader_ || !writer_)
+      throw std::runtime_error("Fast DDS could not create the bare prober's endpoints");
   }
   ~BareProber() override {
     reader_->set_listener(nullptr);
@@ -53,8 +58,10 @@ class BareProber : public Prober<T>, public BareReaderListener<T, BareProber<T>>
 
   bool send(const T& msg) override { return writer_->write(const_cast<T*>(&msg)); }
 
-  void onSample(const T& msg) { this->monitor_.onPong(msg.header().stamp().nanosec(), msg.header().stamp().sec(),
-                                                                 msg.header().frame_id()); }
+  void onSample(const T& msg) {
+    this->monitor_.onPong(msg.header().stamp().nanosec(), msg.header().stamp().sec(),
+                          msg.header().frame_id());
+  }
 
  private:
   BareParticipant& participant_;
@@ -68,13 +75,19 @@ class BareEchoer : public Echoer, public BareReaderListener<T, BareEchoer<T>> {
  public:
   using PubSubType = typename interfaces::RosType<T>::PubSubType;
 
-  BareEchoer(BareParticipant& participant, const std::string& ping_topic, const std::string& pong_topic)
+  BareEchoer(BareParticipant& participant, const std::string& ping_topic,
+             const std::string& pong_topic)
       : participant_(participant) {
-    auto* ping = participant.topic(ping_topic, eprosima::fastdds::dds::TypeSupport(new PubSubType()));
-    auto* pong = participant.topic(pong_topic, eprosima::fastdds::dds::TypeSupport(new PubSubType()));
-    writer_ = participant.publisher()->create_datawriter(pong, bareWriterQos(BareProfile::kDefaults));
-    reader_ = participant.subscriber()->create_datareader(ping, bareReaderQos(BareProfile::kLossless), this);
-    if (!reader_ || !writer_) throw std::runtime_error("Fast DDS could not create the bare echo's endpoints");
+    auto* ping =
+        participant.topic(ping_topic, eprosima::fastdds::dds::TypeSupport(new PubSubType()));
+    auto* pong =
+        participant.topic(pong_topic, eprosima::fastdds::dds::TypeSupport(new PubSubType()));
+    writer_ =
+        participant.publisher()->create_datawriter(pong, bareWriterQos(BareProfile::kDefaults));
+    reader_ = participant.subscriber()->create_datareader(
+        ping, bareReaderQos(BareProfile::kLossless), this);
+    if (!reader_ || !writer_)
+      throw std::runtime_error("Fast DDS could not create the bare echo's endpoints");
   }
   ~BareEchoer() override {
     reader_->set_listener(nullptr);

@@ -24,7 +24,8 @@ void apply(Qos& qos, BareProfile profile) {
     qos.history().kind = KEEP_LAST_HISTORY_QOS;
     qos.history().depth = 10;
   }
-  qos.endpoint().history_memory_policy = eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
+  qos.endpoint().history_memory_policy =
+      eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
 }
 
 QosProfile presetOf(BareProfile profile) {
@@ -36,7 +37,8 @@ QosProfile presetOf(BareProfile profile) {
 DataWriterQos bareWriterQos(BareProfile profile) {
   DataWriterQos qos = DATAWRITER_QOS_DEFAULT;
   apply(qos, profile);
-  if (profile == BareProfile::kLossless) qos.reliability().max_blocking_time = eprosima::fastrtps::Duration_t(1, 0);
+  if (profile == BareProfile::kLossless)
+    qos.reliability().max_blocking_time = eprosima::fastrtps::Duration_t(1, 0);
   return qos;
 }
 

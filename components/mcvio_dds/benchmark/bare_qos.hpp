@@ -5,13 +5,15 @@
 namespace mcvio::dds::bench {
 
 // Written out by hand, as a bare Fast DDS user would, for the two mcvio::dds presets the benchmark
-// uses, on an unbounded type (Image and Imu hold strings and sequences). checkBareQosMatchesWrapper()
-// proves at start-up that they equal mcvio::dds::toWriterQos/toReaderQos apart from the type-hash user
-// data, so wrapper and bare endpoints are compared under identical QoS.
+// uses, on an unbounded type (Image and Imu hold strings and sequences).
+// checkBareQosMatchesWrapper() proves at start-up that they equal
+// mcvio::dds::toWriterQos/toReaderQos apart from the type-hash user data, so wrapper and bare
+// endpoints are compared under identical QoS.
 
 /// The mcvio::dds preset a bare endpoint mirrors.
 enum class BareProfile {
-  kLossless,  ///< QosProfile::lossless(): reliable, volatile, keep all <= 100 samples, 1 s max blocking
+  kLossless,  ///< QosProfile::lossless(): reliable, volatile, keep all <= 100 samples, 1 s max
+              ///< blocking
   kDefaults,  ///< QosProfile::defaults(): reliable, volatile, keep last 10
 };
 

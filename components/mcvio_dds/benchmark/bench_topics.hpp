@@ -3,7 +3,8 @@
 
 namespace mcvio::dds::bench {
 
-/// ROS topic of the wrapper's ping/pong ("/dds_bench/image/ping" is DDS topic "rt/dds_bench/image/ping").
+/// ROS topic of the wrapper's ping/pong ("/dds_bench/image/ping" is DDS topic
+/// "rt/dds_bench/image/ping").
 inline std::string wrapperTopic(const std::string& type_key, const std::string& leg) {
   return "/dds_bench/" + type_key + "/" + leg;
 }

@@ -1,8 +1,7 @@
 #include "bench_transport.hpp"
 
-#include <stdexcept>
-
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <stdexcept>
 
 namespace mcvio::dds::bench {
 
@@ -10,9 +9,12 @@ using namespace eprosima::fastdds::dds;
 
 const char* transportName(Transport transport) {
   switch (transport) {
-    case Transport::kInProcess: return "inproc";
-    case Transport::kSharedMemory: return "shm";
-    case Transport::kUdpLoopback: return "udp";
+    case Transport::kInProcess:
+      return "inproc";
+    case Transport::kSharedMemory:
+      return "shm";
+    case Transport::kUdpLoopback:
+      return "udp";
   }
   return "?";
 }
@@ -24,7 +26,8 @@ Transport parseTransport(const std::string& name) {
   throw std::invalid_argument("unknown transport '" + name + "' (expected inproc, shm or udp)");
 }
 
-ParticipantOptions wrapperParticipantOptions(const BusConfig& bus, Transport transport, const std::string& name) {
+ParticipantOptions wrapperParticipantOptions(const BusConfig& bus, Transport transport,
+                                             const std::string& name) {
   ParticipantOptions options;
   options.domain_id = bus.domain_id;
   options.name = name;
@@ -35,12 +38,14 @@ ParticipantOptions wrapperParticipantOptions(const BusConfig& bus, Transport tra
   return options;
 }
 
-DomainParticipantQos bareParticipantQos(const BusConfig& bus, Transport transport, const std::string& name) {
+DomainParticipantQos bareParticipantQos(const BusConfig& bus, Transport transport,
+                                        const std::string& name) {
   DomainParticipantQos qos = PARTICIPANT_QOS_DEFAULT;
   if (transport == Transport::kUdpLoopback) {
     auto* factory = DomainParticipantFactory::get_instance();
     if (factory->load_XML_profiles_file(bus.udp_profiles_file) != ReturnCode_t::RETCODE_OK ||
-        factory->get_participant_qos_from_profile(bus.udp_profile_name, qos) != ReturnCode_t::RETCODE_OK) {
+        factory->get_participant_qos_from_profile(bus.udp_profile_name, qos) !=
+            ReturnCode_t::RETCODE_OK) {
       throw std::runtime_error("participant profile '" + bus.udp_profile_name + "' not found in '" +
                                bus.udp_profiles_file + "'");
     }

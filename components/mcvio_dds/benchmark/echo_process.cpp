@@ -1,5 +1,11 @@
 #include "echo_process.hpp"
 
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdio>
 #include <exception>
@@ -7,12 +13,6 @@
 #include <stdexcept>
 #include <thread>
 #include <vector>
-
-#include <fcntl.h>
-#include <signal.h>
-#include <sys/prctl.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include "bare_ping_pong.hpp"
 #include "bench_messages.hpp"
@@ -25,9 +25,14 @@ EchoProcess::EchoProcess(const std::string& type_key, Transport transport, const
   int fds[2];
   // Close-on-exec so a later echo child does not inherit this child's stdin and keep it open.
   if (pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error("pipe2 failed for the echo process");
-  std::vector<std::string> args = {"/proc/self/exe",      "--echo",          type_key,
-                                   transportName(transport), std::to_string(bus.domain_id),
-                                   bus.udp_profiles_file, bus.udp_profile_name};
+  std::vector<std::string> args = {"/proc/self/exe",
+                                   "--echo",
+                                   type_key,
+                                   transportName(transport),
+                                   std::to_string(bus.domain_id),
+                                   bus.udp_profiles_file,
+                                   bus.udp_profile_name,
+                                   bus.bare_in_own_participant ? "own" : "shared"};
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -62,7 +67,8 @@ EchoProcess::~EchoProcess() {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   if (!reaped_) {
-    std::fprintf(stderr, "dds_benchmark: echo process %d did not exit, killing it\n", static_cast<int>(pid_));
+    std::fprintf(stderr, "dds_benchmark: echo process %d did not exit, killing it\n",
+                 static_cast<int>(pid_));
     kill(pid_, SIGKILL);
     int status = 0;
     waitpid(pid_, &status, 0);
@@ -74,12 +80,14 @@ namespace {
 template <class T>
 int echoUntilStdinCloses(Transport transport, const BusConfig& bus) {
   const std::string key = BenchMessage<T>::kKey;
-  auto participant = Participant::create(wrapperParticipantOptions(bus, transport, "dds_bench_echo"));
+  auto participant =
+      Participant::create(wrapperParticipantOptions(bus, transport, "dds_bench_echo"));
   auto node = participant->createNode("dds_bench_echo");
-  auto wrapper = std::make_unique<WrapperEchoer<T>>(*node, wrapperTopic(key, "ping"), wrapperTopic(key, "pong"));
-  auto bare_participant =
-      std::make_unique<BareParticipant>(bus.domain_id, bareParticipantQos(bus, transport, "dds_bench_bare_echo"));
-  auto bare = std::make_unique<BareEchoer<T>>(*bare_participant, bareTopic(key, "ping"), bareTopic(key, "pong"));
+  auto wrapper = std::make_unique<WrapperEchoer<T>>(*node, wrapperTopic(key, "ping"),
+                                                    wrapperTopic(key, "pong"));
+  auto bare_participant = makeBareParticipant(bus, transport, *participant, "dds_bench_bare_echo");
+  auto bare = std::make_unique<BareEchoer<T>>(*bare_participant, bareTopic(key, "ping"),
+                                              bareTopic(key, "pong"));
   char buffer[64];
   while (read(STDIN_FILENO, buffer, sizeof buffer) > 0) {
   }
@@ -94,8 +102,11 @@ int echoUntilStdinCloses(Transport transport, const BusConfig& bus) {
 }  // namespace
 
 int runEchoProcess(int argc, char** argv) {
-  if (argc != 7) {
-    std::fprintf(stderr, "usage: %s --echo image|imu inproc|shm|udp DOMAIN UDP_PROFILES_FILE UDP_PROFILE\n", argv[0]);
+  if (argc != 8) {
+    std::fprintf(stderr,
+                 "usage: %s --echo image|imu inproc|shm|udp DOMAIN UDP_PROFILES_FILE UDP_PROFILE "
+                 "shared|own\n",
+                 argv[0]);
     return 2;
   }
   try {
@@ -105,9 +116,11 @@ int runEchoProcess(int argc, char** argv) {
     bus.domain_id = std::stoi(argv[4]);
     bus.udp_profiles_file = argv[5];
     bus.udp_profile_name = argv[6];
+    bus.bare_in_own_participant = std::string(argv[7]) == "own";
     if (key == BenchMessage<Image>::kKey) return echoUntilStdinCloses<Image>(transport, bus);
     if (key == BenchMessage<Imu>::kKey) return echoUntilStdinCloses<Imu>(transport, bus);
-    std::fprintf(stderr, "dds_benchmark --echo: unknown message '%s' (expected image or imu)\n", key.c_str());
+    std::fprintf(stderr, "dds_benchmark --echo: unknown message '%s' (expected image or imu)\n",
+                 key.c_str());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "dds_benchmark --echo: %s\n", e.what());
   }

@@ -9,8 +9,8 @@ namespace mcvio::dds::bench {
 
 // The ping-pong protocol, carried in the message header so Image and Imu need no extra fields:
 // header.stamp.nanosec is the sequence number, header.frame_id says what the echo side does.
-inline const std::string kPingFrame = "ping";              ///< echo it back unchanged (latency)
-inline const std::string kStreamFrame = "stream";          ///< count it, send nothing (throughput)
+inline const std::string kPingFrame = "ping";      ///< echo it back unchanged (latency)
+inline const std::string kStreamFrame = "stream";  ///< count it, send nothing (throughput)
 /// Count it and ack: the count in stamp.sec, the echo process's CPU nanoseconds in frame_id.
 inline const std::string kStreamEndFrame = "stream_end";
 
@@ -18,8 +18,8 @@ inline const std::string kStreamEndFrame = "stream_end";
 // a slow reader, so a burst measures delivered messages, never dropped ones. Pongs use the reliable
 // keep-last default: the echo writes them from inside its reader callback, on the Fast DDS receive
 // thread, and a keep-all writer there can block waiting for an ACKNACK that only that very thread
-// would process (seen in this benchmark: the echo stalled for good after a few hundred pings over SHM).
-// With one ping outstanding at a time keep-last 10 loses nothing.
+// would process (seen in this benchmark: the echo stalled for good after a few hundred pings over
+// SHM). With one ping outstanding at a time keep-last 10 loses nothing.
 
 /// The measuring end: sends on the ping topic, its pong reader feeds monitor().
 template <class T>

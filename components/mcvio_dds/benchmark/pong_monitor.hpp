@@ -20,9 +20,9 @@ class PongMonitor {
  public:
   /// What one pong carried, plus when it arrived.
   struct Pong {
-    std::int64_t arrival_ns = 0;  ///< steadyNowNs() in the callback
-    std::int32_t count = 0;       ///< messages the echo end counted (stream acks)
-    std::int64_t echo_cpu_ns = 0; ///< the echo process's CPU time when it acked (stream acks)
+    std::int64_t arrival_ns = 0;   ///< steadyNowNs() in the callback
+    std::int32_t count = 0;        ///< messages the echo end counted (stream acks)
+    std::int64_t echo_cpu_ns = 0;  ///< the echo process's CPU time when it acked (stream acks)
   };
   /// Called from the pong reader's callback with the echoed header.
   void onPong(std::uint32_t seq, std::int32_t count, const std::string& frame_id);

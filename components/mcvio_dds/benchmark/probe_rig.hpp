@@ -10,27 +10,32 @@
 
 namespace mcvio::dds::bench {
 
-/// The measuring side of one benchmark row: a wrapper prober on an mcvio::dds::Participant and a bare
-/// prober on a plain DomainParticipant, both alive at once so their runs can be interleaved. The echo
-/// ends live in the same participants (in-process) or in an EchoProcess child (SHM, UDP).
+/// The measuring side of one benchmark row: a wrapper prober on an mcvio::dds::Participant and a
+/// bare prober on a plain DomainParticipant, both alive at once so their runs can be interleaved.
+/// The echo ends live in the same participants (in-process) or in an EchoProcess child (SHM, UDP).
 template <class T>
 class ProbeRig {
  public:
   ProbeRig(Transport transport, const BusConfig& bus) {
     const std::string key = BenchMessage<T>::kKey;
-    if (transport != Transport::kInProcess) echo_process_ = std::make_unique<EchoProcess>(key, transport, bus);
-    participant_ = Participant::create(wrapperParticipantOptions(bus, transport, "dds_bench_probe"));
+    if (transport != Transport::kInProcess)
+      echo_process_ = std::make_unique<EchoProcess>(key, transport, bus);
+    participant_ =
+        Participant::create(wrapperParticipantOptions(bus, transport, "dds_bench_probe"));
     probe_node_ = participant_->createNode("dds_bench_probe");
-    bare_participant_ =
-        std::make_unique<BareParticipant>(bus.domain_id, bareParticipantQos(bus, transport, "dds_bench_bare_probe"));
+    bare_participant_ = makeBareParticipant(bus, transport, *participant_, "dds_bench_bare_probe");
     if (transport == Transport::kInProcess) {
       // Same participant: a second node, as two composed components would be.
       echo_node_ = participant_->createNode("dds_bench_echo");
-      wrapper_echo_ = std::make_unique<WrapperEchoer<T>>(*echo_node_, wrapperTopic(key, "ping"), wrapperTopic(key, "pong"));
-      bare_echo_ = std::make_unique<BareEchoer<T>>(*bare_participant_, bareTopic(key, "ping"), bareTopic(key, "pong"));
+      wrapper_echo_ = std::make_unique<WrapperEchoer<T>>(*echo_node_, wrapperTopic(key, "ping"),
+                                                         wrapperTopic(key, "pong"));
+      bare_echo_ = std::make_unique<BareEchoer<T>>(*bare_participant_, bareTopic(key, "ping"),
+                                                   bareTopic(key, "pong"));
     }
-    wrapper_ = std::make_unique<WrapperProber<T>>(*probe_node_, wrapperTopic(key, "ping"), wrapperTopic(key, "pong"));
-    bare_ = std::make_unique<BareProber<T>>(*bare_participant_, bareTopic(key, "ping"), bareTopic(key, "pong"));
+    wrapper_ = std::make_unique<WrapperProber<T>>(*probe_node_, wrapperTopic(key, "ping"),
+                                                  wrapperTopic(key, "pong"));
+    bare_ = std::make_unique<BareProber<T>>(*bare_participant_, bareTopic(key, "ping"),
+                                            bareTopic(key, "pong"));
   }
 
   /// 0: wrapper, 1: bare.
