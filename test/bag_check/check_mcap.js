@@ -65,14 +65,16 @@ async function checkBag(dir, expected) {
   assert.strictEqual(indexed.header.profile, "ros2", `${bag}: profile`);
   assert.strictEqual(Number(indexed.statistics.messageCount), want.length, `${bag}: statistics`);
   assert.ok(indexed.chunkIndexes.length > 3, `${bag}: several chunks`);
+  assert.ok(want.length > 0, `${bag}: expected messages`);
   const topics = checkTopics(indexed.channelsById, indexed.schemasById, bag);
   // rosbag2's MCAP plugin stores metadata.yaml in a Metadata record named "rosbag2".
+  // (a repaired file lost it with the rest of its unfinished tail).
   let rosbag2Metadata = 0;
   for await (const m of indexed.readMetadata({ name: "rosbag2" })) {
     assert.ok(m.metadata.get("serialized_metadata").includes("rosbag2_bagfile_information:"), `${bag}: rosbag2 metadata`);
     rosbag2Metadata++;
   }
-  assert.strictEqual(rosbag2Metadata, 1, `${bag}: one rosbag2 Metadata record`);
+  assert.strictEqual(rosbag2Metadata, bag === "repaired" ? 0 : 1, `${bag}: rosbag2 Metadata records`);
   const got = [];
   for await (const msg of indexed.readMessages()) {
     const t = topics.get(msg.channelId);
@@ -110,7 +112,7 @@ async function checkBag(dir, expected) {
 async function main() {
   const out = process.argv[2];
   const expected = JSON.parse(fs.readFileSync(path.join(out, "expected.json"), "utf8")).messages;
-  for (const bag of ["none", "zstd", "lz4"]) await checkBag(path.join(out, bag), expected);
+  for (const bag of ["none", "zstd", "lz4", "repaired"]) await checkBag(path.join(out, bag), expected);
   console.log(`node ${process.version}: all bags match`);
 }
 

@@ -1,6 +1,6 @@
 // Writes MCAP bags with known std_msgs/msg/String and geometry_msgs/msg/PoseStamped messages
 // (CDR, little endian) for an independent reader to check, plus expected.json describing them.
-//   bag_check_generator OUT_DIR      -> OUT_DIR/{none,zstd,lz4}/ and OUT_DIR/expected.json
+//   bag_check_generator OUT_DIR  -> OUT_DIR/{none,zstd,lz4,repaired}/ and OUT_DIR/expected.json
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "mcvio/bag/bag_reader.hpp"
+#include "mcvio/bag/bag_reindexer.hpp"
 #include "mcvio/bag/bag_writer.hpp"
 
 namespace {
@@ -79,6 +81,75 @@ std::string jsonString(const std::string& s) {
 
 }  // namespace
 
+namespace {
+
+struct Generated {
+  std::string topic;
+  std::int64_t log = 0;
+  std::int64_t pub = 0;
+  std::vector<std::uint8_t> cdr;
+  std::string value_json;
+};
+
+std::vector<Generated> generateMessages(int n) {
+  std::vector<Generated> out;
+  const std::int64_t t0 = 1700000000000000000;
+  for (int i = 0; i < n; ++i) {
+    Generated g;
+    g.log = t0 + i * 5000000LL;
+    g.pub = g.log - 1000;
+    Cdr cdr;
+    if (i % 2 == 0) {
+      g.topic = "/chatter";
+      const std::string text = "hello mcvio " + std::to_string(i) + std::string(i % 13, 'x');
+      cdr.putString(text);
+      g.value_json = "{\"data\": " + jsonString(text) + "}";
+    } else {
+      g.topic = "/pose";
+      const std::int32_t sec = 1700000000 + i;
+      const auto nsec = static_cast<std::uint32_t>(i * 1000);
+      const std::string frame = i % 3 ? "map" : "odom_frame";
+      const double x = i * 0.25, y = -i * 0.5, z = 1.0 + i, qx = 0.0, qy = 0.0, qz = (i % 2) * 0.5,
+                   qw = 0.75;
+      cdr.put(sec);
+      cdr.put(nsec);
+      cdr.putString(frame);
+      for (double v : {x, y, z, qx, qy, qz, qw}) cdr.put(v);
+      g.value_json = "{\"header\": {\"stamp\": {\"sec\": " + std::to_string(sec) +
+                     ", \"nanosec\": " + std::to_string(nsec) +
+                     "}, \"frame_id\": " + jsonString(frame) +
+                     "}, \"pose\": {\"position\": {\"x\": " + num(x) + ", \"y\": " + num(y) +
+                     ", \"z\": " + num(z) + "}, \"orientation\": {\"x\": " + num(qx) +
+                     ", \"y\": " + num(qy) + ", \"z\": " + num(qz) + ", \"w\": " + num(qw) + "}}}";
+    }
+    g.cdr = cdr.bytes();
+    out.push_back(std::move(g));
+  }
+  return out;
+}
+
+void writeBag(const std::filesystem::path& dir, mcvio::bag::Compression c,
+              const std::vector<Generated>& messages) {
+  mcvio::bag::BagWriterOptions o;
+  o.compression = c;
+  o.chunk_size = 2048;  // several chunks, so indexes matter
+  mcvio::bag::BagWriter w(dir, o);
+  w.addTopic({"/chatter", "std_msgs/msg/String", "cdr", kQos, "string data\n",
+              "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"});
+  w.addTopic({"/pose", "geometry_msgs/msg/PoseStamped", "cdr", kQos, kPoseStamped, ""});
+  for (const auto& m : messages) w.write(m.topic, m.log, m.pub, m.cdr.data(), m.cdr.size());
+  w.close();
+}
+
+void appendJson(std::ostringstream& json, bool& first, const std::string& bag, const Generated& m) {
+  json << (first ? "" : ",\n") << "{\"bag\": \"" << bag << "\", \"topic\": \"" << m.topic
+       << "\", \"log_time\": \"" << m.log << "\", \"publish_time\": \"" << m.pub
+       << "\", \"value\": " << m.value_json << "}";
+  first = false;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   if (argc != 2) {
     std::cerr << "usage: bag_check_generator OUT_DIR\n";
@@ -87,57 +158,38 @@ int main(int argc, char** argv) {
   const std::filesystem::path out(argv[1]);
   std::filesystem::remove_all(out);
   std::filesystem::create_directories(out);
+  const auto messages = generateMessages(240);
   std::ostringstream json;
   json << "{\"messages\": [\n";
   bool first = true;
-  const std::int64_t t0 = 1700000000000000000;
   for (auto c : {mcvio::bag::Compression::None, mcvio::bag::Compression::Zstd,
                  mcvio::bag::Compression::Lz4}) {
-    mcvio::bag::BagWriterOptions o;
-    o.compression = c;
-    o.chunk_size = 2048;  // several chunks, so indexes matter
-    const auto dir = out / mcvio::bag::toString(c);
-    mcvio::bag::BagWriter w(dir, o);
-    w.addTopic({"/chatter", "std_msgs/msg/String", "cdr", kQos, "string data\n",
-                "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"});
-    w.addTopic({"/pose", "geometry_msgs/msg/PoseStamped", "cdr", kQos, kPoseStamped, ""});
-    for (int i = 0; i < 120; ++i) {
-      const std::int64_t log = t0 + i * 5000000LL;
-      const std::int64_t pub = log - 1000;
-      std::string value;
-      std::string topic;
-      Cdr cdr;
-      if (i % 2 == 0) {
-        topic = "/chatter";
-        const std::string text = "hello mcvio " + std::to_string(i) + std::string(i % 13, 'x');
-        cdr.putString(text);
-        value = "{\"data\": " + jsonString(text) + "}";
-      } else {
-        topic = "/pose";
-        const std::int32_t sec = 1700000000 + i;
-        const std::uint32_t nsec = static_cast<std::uint32_t>(i * 1000);
-        const std::string frame = i % 3 ? "map" : "odom_frame";
-        const double x = i * 0.25, y = -i * 0.5, z = 1.0 + i, qx = 0.0, qy = 0.0,
-                     qz = (i % 2) * 0.5, qw = 0.75;
-        cdr.put(sec);
-        cdr.put(nsec);
-        cdr.putString(frame);
-        for (double v : {x, y, z, qx, qy, qz, qw}) cdr.put(v);
-        value = "{\"header\": {\"stamp\": {\"sec\": " + std::to_string(sec) +
-                ", \"nanosec\": " + std::to_string(nsec) + "}, \"frame_id\": " + jsonString(frame) +
-                "}, \"pose\": {\"position\": {\"x\": " + num(x) + ", \"y\": " + num(y) +
-                ", \"z\": " + num(z) + "}, \"orientation\": {\"x\": " + num(qx) +
-                ", \"y\": " + num(qy) + ", \"z\": " + num(qz) + ", \"w\": " + num(qw) + "}}}";
-      }
-      w.write(topic, log, pub, cdr.bytes().data(), cdr.bytes().size());
-      json << (first ? "" : ",\n") << "{\"bag\": \"" << mcvio::bag::toString(c)
-           << "\", \"topic\": \"" << topic << "\", \"log_time\": \"" << log
-           << "\", \"publish_time\": \"" << pub << "\", \"value\": " << value << "}";
-      first = false;
+    writeBag(out / mcvio::bag::toString(c), c, messages);
+    for (const auto& m : messages) appendJson(json, first, mcvio::bag::toString(c), m);
+  }
+  // A recording cut short (the file ends inside a chunk, no summary), then reindexed: the
+  // independent reader must accept the repaired file and find the recovered messages intact.
+  const auto repaired = out / "repaired";
+  writeBag(repaired, mcvio::bag::Compression::Zstd, messages);
+  const auto file = repaired / "repaired_0.mcap";
+  std::filesystem::resize_file(file, std::filesystem::file_size(file) * 6 / 10);
+  mcvio::bag::BagReindexer::reindex(repaired);
+  mcvio::bag::BagReader reader(repaired);
+  std::size_t k = 0;
+  for (mcvio::bag::BagMessage m; reader.next(m); ++k) {
+    if (k >= messages.size() || m.data != messages[k].cdr || m.log_time != messages[k].log) {
+      std::cerr << "repaired bag: message " << k << " differs from what was written\n";
+      return 1;
     }
-    w.close();
+    appendJson(json, first, "repaired", messages[k]);
+  }
+  if (k == 0 || k == messages.size()) {
+    std::cerr << "repaired bag: expected a strict, non-empty prefix, got " << k << "\n";
+    return 1;
   }
   json << "\n]}\n";
   std::ofstream(out / "expected.json") << json.str();
+  std::cout << "wrote 3 bags of " << messages.size() << " messages and a repaired bag keeping " << k
+            << "\n";
   return 0;
 }
