@@ -1,17 +1,23 @@
 // DDS transport figures for mcvio::dds versus bare Fast DDS (issue 2).
 //
 // For a sensor_msgs/Image (752x480 mono8) and a sensor_msgs/Imu, over three transports (in-process,
-// shared memory to a child process, UDP on loopback to a child process), it measures
-//   latency:    ping-pong round trip / 2 (the echo end sends every ping straight back), p50 and
-//   p99; throughput: bursts of messages under the lossless QoS (reliable, keep all, the writer
-//   waits for
-//               the reader), msgs/s and payload MB/s from the first write to the end-of-burst ack;
+// shared memory to a child process, UDP on loopback to a child process) it measures
+//   latency:    ping-pong round trip / 2 (the echo end sends every ping straight back): p50, p99;
+//   throughput: bursts under the lossless QoS (reliable, keep all: the writer waits for the
+//               reader), msgs/s and payload MB/s from the first write to the end-of-burst ack, and
+//               the CPU time both processes spent per message;
 // each with the wrapper (Node::createPublisher/createSubscription) and with a bare DataWriter/
-// DataReader on the same generated types and the same QoS. Wrapper and bare runs alternate in small
-// blocks inside one row, so load from other processes on a shared machine hits both alike.
+// DataReader on the same generated types and the same QoS, alternating ping by ping and burst by
+// burst so that load from other processes on a shared machine hits both alike. A first pair of rows
+// times the publish call alone (no reader): the wrapper's own cost without transport noise.
 //
-// Run: dds_benchmark [--udp_profile=config/dds/localhost_udp.xml] [--domain=N] [Google Benchmark
-// flags]
+// Run: dds_benchmark [--udp_profile=FILE] [--domain=N] [--bare_participant=shared|own]
+//                    [Google Benchmark flags]
+//   --udp_profile       Fast DDS XML with participant profile "localhost_udp" (default: the
+//                       repository's config/dds/localhost_udp.xml)
+//   --bare_participant  shared (default): bare endpoints use the wrapper's DomainParticipant, so
+//                       both share threads and transports and only the code path differs;
+//                       own: a second participant with the same participant QoS.
 #include <benchmark/benchmark.h>
 #include <fastrtps/config.h>
 #include <unistd.h>

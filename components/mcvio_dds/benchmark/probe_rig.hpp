@@ -11,8 +11,9 @@
 namespace mcvio::dds::bench {
 
 /// The measuring side of one benchmark row: a wrapper prober on an mcvio::dds::Participant and a
-/// bare prober on a plain DomainParticipant, both alive at once so their runs can be interleaved.
-/// The echo ends live in the same participants (in-process) or in an EchoProcess child (SHM, UDP).
+/// bare prober (on that participant's DomainParticipant or on one of its own, see BusConfig), both
+/// alive at once so their runs can be interleaved. The echo ends live in the same participants
+/// (in-process) or in an EchoProcess child (SHM, UDP).
 template <class T>
 class ProbeRig {
  public:
