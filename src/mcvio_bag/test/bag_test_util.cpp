@@ -1,5 +1,6 @@
 #include "bag_test_util.hpp"
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include "mcvio/bag/bag_reader.hpp"
@@ -71,9 +72,28 @@ TopicInfo poseStampedTopic(const std::string& name) {
   return t;
 }
 
+namespace {
+
+std::filesystem::path scratchBase() {
+  return std::filesystem::temp_directory_path() / ("mcvio_bag_test_" + std::to_string(::getpid()));
+}
+
+/// Removes this process's scratch bags when the tests end.
+class ScratchCleanup : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    std::error_code ec;
+    std::filesystem::remove_all(scratchBase(), ec);
+  }
+};
+
+[[maybe_unused]] const ::testing::Environment* const kCleanup =
+    ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
+
+}  // namespace
+
 std::filesystem::path freshPath(const std::string& name) {
-  const auto base =
-      std::filesystem::temp_directory_path() / ("mcvio_bag_test_" + std::to_string(::getpid()));
+  const auto base = scratchBase();
   std::filesystem::create_directories(base);
   const auto p = base / name;
   std::filesystem::remove_all(p);
