@@ -32,24 +32,24 @@ std::string displayName(const std::string& topic, const QosProfile& qos) {
 
 WriterEndpoint::WriterEndpoint(Node& node, const std::string& ros_topic, TypeSupport type,
                                const std::string& type_hash, const QosProfile& qos)
-    : node_(node), ros_topic_(displayName(ros_topic, qos)), qos_(qos) {
+      : node_(node.shared_from_this()), ros_topic_(displayName(ros_topic, qos)), qos_(qos) {
   const std::string dds_topic = ddsTopicFor(ros_topic, qos);
   const bool unbounded = !type->is_bounded();
   const std::string type_name = type.get_type_name();
-  node_.participant()->registerType(type);
-  topic_ = node_.participant()->acquireTopic(dds_topic, type_name);
-  writer_ = node_.participant()->publisher()->create_datawriter(topic_, toWriterQos(qos, type_hash, unbounded));
+  node_->participant()->registerType(type);
+  topic_ = node_->participant()->acquireTopic(dds_topic, type_name);
+  writer_ = node_->participant()->publisher()->create_datawriter(topic_, toWriterQos(qos, type_hash, unbounded));
   if (!writer_) {
-    node_.participant()->releaseTopic(topic_);
+    node_->participant()->releaseTopic(topic_);
     throw std::runtime_error("Fast DDS could not create a writer for " + ros_topic_);
   }
-  node_.participant()->addEndpoint(node_.key(), gidOf(writer_->guid()), true);
+  node_->participant()->addEndpoint(node_->key(), gidOf(writer_->guid()), true);
 }
 
 WriterEndpoint::~WriterEndpoint() {
-  node_.participant()->removeEndpoint(node_.key(), gidOf(writer_->guid()));
-  node_.participant()->publisher()->delete_datawriter(writer_);
-  node_.participant()->releaseTopic(topic_);
+  node_->participant()->removeEndpoint(node_->key(), gidOf(writer_->guid()));
+  node_->participant()->publisher()->delete_datawriter(writer_);
+  node_->participant()->releaseTopic(topic_);
 }
 
 int WriterEndpoint::matchedReaders() const {
@@ -86,36 +86,36 @@ bool WriterEndpoint::write(void* sample, std::chrono::milliseconds give_up) {
 
 ReaderEndpoint::ReaderEndpoint(Node& node, const std::string& ros_topic, TypeSupport type,
                                const std::string& type_hash, const QosProfile& qos)
-    : node_(node), ros_topic_(displayName(ros_topic, qos)) {
+      : node_(node.shared_from_this()), ros_topic_(displayName(ros_topic, qos)) {
   const std::string dds_topic = ddsTopicFor(ros_topic, qos);
   const bool unbounded = !type->is_bounded();
   const std::string type_name = type.get_type_name();
-  node_.participant()->registerType(type);
-  topic_ = node_.participant()->acquireTopic(dds_topic, type_name);
+  node_->participant()->registerType(type);
+  topic_ = node_->participant()->acquireTopic(dds_topic, type_name);
   reader_qos_ = toReaderQos(qos, type_hash, unbounded);
 }
 
 void ReaderEndpoint::start(DataReaderListener* listener) {
-  reader_ = node_.participant()->subscriber()->create_datareader(topic_, reader_qos_, listener);
+  reader_ = node_->participant()->subscriber()->create_datareader(topic_, reader_qos_, listener);
   if (!reader_) {
-    node_.participant()->releaseTopic(topic_);
+    node_->participant()->releaseTopic(topic_);
     topic_ = nullptr;
     throw std::runtime_error("Fast DDS could not create a reader for " + ros_topic_);
   }
-  node_.participant()->addEndpoint(node_.key(), gidOf(reader_->guid()), false);
+  node_->participant()->addEndpoint(node_->key(), gidOf(reader_->guid()), false);
 }
 
 void ReaderEndpoint::shutdown() {
   if (!reader_) return;
   reader_->set_listener(nullptr);
-  node_.participant()->removeEndpoint(node_.key(), gidOf(reader_->guid()));
-  node_.participant()->subscriber()->delete_datareader(reader_);
+  node_->participant()->removeEndpoint(node_->key(), gidOf(reader_->guid()));
+  node_->participant()->subscriber()->delete_datareader(reader_);
   reader_ = nullptr;
 }
 
 ReaderEndpoint::~ReaderEndpoint() {
   shutdown();
-  if (topic_) node_.participant()->releaseTopic(topic_);
+  if (topic_) node_->participant()->releaseTopic(topic_);
 }
 
 int ReaderEndpoint::matchedWriters() const {

@@ -41,6 +41,9 @@ DataWriterQos toWriterQos(const QosProfile& profile, const std::string& type_has
   if (profile.history == QosProfile::History::kKeepAll) {
     qos.reliability().max_blocking_time = eprosima::fastrtps::Duration_t(1, 0);
   }
+  // Late joiners of transient-local topics (calibration, ros_discovery_info) get the history at
+  // the next heartbeat: Fast DDS's 3 s default makes `mcvio nodes` miss them.
+  qos.reliable_writer_qos().times.heartbeatPeriod = eprosima::fastrtps::Duration_t(0, 100000000);
   qos.user_data().data_vec(typeHashUserData(type_hash));
   return qos;
 }

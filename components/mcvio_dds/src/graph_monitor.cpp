@@ -191,7 +191,9 @@ bool GraphMonitor::waitFor(const std::function<bool(const std::vector<Discovered
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   while (!pred(topics())) {
     std::unique_lock<std::mutex> lock(mutex_);
-    if (changed_.wait_until(lock, deadline) == std::cv_status::timeout) return pred(topics());
+    const bool timed_out = changed_.wait_until(lock, deadline) == std::cv_status::timeout;
+    lock.unlock();
+    if (timed_out) return pred(topics());
   }
   return true;
 }

@@ -105,6 +105,7 @@ Participant::Participant(ParticipantOptions options, DomainParticipantListener* 
   wqos.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
   wqos.history().kind = KEEP_LAST_HISTORY_QOS;
   wqos.history().depth = 1;
+  wqos.reliable_writer_qos().times.heartbeatPeriod = eprosima::fastrtps::Duration_t(0, 100000000);
   const std::string th = "typehash=" + std::string(interfaces::MessageRegistry::get(Traits::kName).type_hash) + ";";
   wqos.user_data().data_vec(std::vector<eprosima::fastrtps::rtps::octet>(th.begin(), th.end()));
   discovery_writer_ = publisher_->create_datawriter(discovery_topic_, wqos);

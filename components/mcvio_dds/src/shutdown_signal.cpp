@@ -9,7 +9,14 @@ namespace {
 
 std::atomic<bool> g_requested{false};
 
-extern "C" void onSignal(int) { g_requested.store(true); }
+// The first signal asks for a clean stop; a second one (an impatient Ctrl-C, or `timeout`
+// following up) ends the process at once with the conventional status.
+extern "C" void onSignal(int sig) {
+  if (g_requested.exchange(true)) {
+    std::signal(sig, SIG_DFL);
+    std::raise(sig);
+  }
+}
 
 }  // namespace
 

@@ -12,6 +12,10 @@ set(CMAKE_CXX_STANDARD_REQUIRED ON)
 set(CMAKE_CXX_EXTENSIONS OFF)
 set(CMAKE_POSITION_INDEPENDENT_CODE ON)
 set(CMAKE_EXPORT_COMPILE_COMMANDS ON)
+# Installed programs find the libraries of the other mcvio packages (colcon installs each package
+# in its own prefix) without LD_LIBRARY_PATH.
+set(CMAKE_INSTALL_RPATH "$ORIGIN/../lib")
+set(CMAKE_INSTALL_RPATH_USE_LINK_PATH ON)
 option(MCVIO_BUILD_TESTS "Build the package's tests" ON)
 option(MCVIO_BUILD_BENCHMARKS "Build the package's Google Benchmarks" ON)
 option(MCVIO_WERROR "Treat warnings as errors" OFF)

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 namespace mcvio::rosmsg {
 namespace {
@@ -13,8 +14,12 @@ std::string scalar(const MessageValue& v) {
   if (auto d = std::get_if<double>(&v.value)) {
     if (std::isnan(*d)) return ".nan";
     if (std::isinf(*d)) return *d > 0 ? ".inf" : "-.inf";
+    // Shortest text that reads back to the same double: 0.07395907, not 0.073959070000000002.
     char buf[32];
-    std::snprintf(buf, sizeof buf, "%.17g", *d);
+    for (int precision = 15; precision <= 17; ++precision) {
+      std::snprintf(buf, sizeof buf, "%.*g", precision, *d);
+      if (std::strtod(buf, nullptr) == *d) break;
+    }
     std::string s = buf;
     if (s.find_first_of(".e") == std::string::npos) s += ".0";
     return s;

@@ -39,7 +39,7 @@ class WriterEndpoint {
   eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
 
  private:
-  Node& node_;
+  std::shared_ptr<Node> node_;
   std::string ros_topic_;
   QosProfile qos_;
   eprosima::fastdds::dds::Topic* topic_ = nullptr;
@@ -67,7 +67,7 @@ class ReaderEndpoint {
   eprosima::fastdds::dds::DataReader* reader_ = nullptr;
 
  private:
-  Node& node_;
+  std::shared_ptr<Node> node_;
   std::string ros_topic_;
   eprosima::fastdds::dds::Topic* topic_ = nullptr;
   eprosima::fastdds::dds::DataReaderQos reader_qos_;

@@ -16,7 +16,8 @@ struct ReceivedPayload;
 
 /// A ROS 2 node: a name under which publishers and subscriptions appear in the ROS graph.
 /// Components (frontend, backend, ...) each own one; several may share a Participant.
-class Node {
+/// Always held by shared_ptr (Participant::createNode): its publishers and subscriptions keep it alive.
+class Node : public std::enable_shared_from_this<Node> {
  public:
   Node(std::shared_ptr<Participant> participant, std::string name, std::string ns);
   ~Node();

@@ -1,0 +1,32 @@
+#pragma once
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "mcvio/dds/participant.hpp"
+
+namespace mcvio::cli {
+
+/// Options every subcommand shares: which DDS domain and profile to join.
+struct CommandContext {
+  int domain_id = 0;
+  std::string profiles_file;
+  std::string profile_name;
+
+  /// ParticipantOptions for a participant of this command (validated when created).
+  dds::ParticipantOptions participantOptions(const std::string& name) const;
+};
+
+/// Each subcommand adds itself to the app; the callback runs when it is chosen.
+void addTopicsCommand(CLI::App& app, CommandContext& ctx);
+void addEchoCommand(CLI::App& app, CommandContext& ctx);
+void addNodesCommand(CLI::App& app, CommandContext& ctx);
+void addDemoCommand(CLI::App& app, CommandContext& ctx);
+
+/// Thrown by a command to end with `code` after printing `what()` (if not empty) to stderr.
+struct CommandExit {
+  int code;
+  std::string message;
+};
+
+}  // namespace mcvio::cli

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Each bad input must end with a non-zero exit and a message naming what was wrong, never a crash.
+set -u
+mcvio=$1
+domain=$((150 + RANDOM % 80))
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+failed=0
+# expect CODE PATTERN -- command...
+expect() {
+  local code=$1 pattern=$2
+  shift 3
+  local out rc
+  out=$(timeout -s KILL 60 "$@" 2>&1)
+  rc=$?
+  if [ "$rc" -ne "$code" ] || ! grep -qF -- "$pattern" <<<"$out"; then
+    echo "FAIL: '$*' exited $rc (want $code), output:"
+    echo "$out" | sed 's/^/    /' | tail -n 8
+    failed=1
+  else
+    echo "ok: '$*' -> $rc: $(grep -F -- "$pattern" <<<"$out" | head -n 1)"
+  fi
+}
+printf '<dds><profiles><participant profile_name="x"><rtps>' > "$tmp/broken.xml"
+expect 2 "$tmp/broken.xml" -- "$mcvio" --domain "$domain" --dds-profiles "$tmp/broken.xml" topics --wait 0.1
+expect 2 "does not exist" -- "$mcvio" --domain "$domain" --dds-profiles "$tmp/missing.xml" topics --wait 0.1
+expect 2 "invalid topic name '/bad topic'" -- "$mcvio" --domain "$domain" echo "/bad topic"
+expect 2 "invalid topic name '/a//b'" -- "$mcvio" --domain "$domain" echo "/a//b"
+expect 2 "domain id 233 is out of range" -- "$mcvio" --domain 233 topics
+expect 2 "domain id -1 is out of range" -- "$mcvio" --domain -1 nodes
+expect 2 "unknown type 'foo_msgs/msg/Bar'" -- "$mcvio" --domain "$domain" echo /imu0 --type foo_msgs/msg/Bar
+expect 1 "no publisher of /nothing_here" -- "$mcvio" --domain "$domain" echo /nothing_here --timeout 1
+expect 106 "A subcommand is required" -- "$mcvio" no_such_command
+exit $failed
