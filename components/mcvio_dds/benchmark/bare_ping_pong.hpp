@@ -44,9 +44,9 @@ class BareProber : public Prober<T>, public BareReaderListener<T, BareProber<T>>
     auto* pong =
         participant.topic(pong_topic, eprosima::fastdds::dds::TypeSupport(new PubSubType()));
     reader_ = participant.subscriber()->create_datareader(
-        pong, bareReaderQos(BareProfile::kDefaults), this);
+        pong, bareReaderQos<T>(QosProfile::defaults()), this);
     writer_ =
-        participant.publisher()->create_datawriter(ping, bareWriterQos(BareProfile::kLossless));
+        participant.publisher()->create_datawriter(ping, bareWriterQos<T>(QosProfile::lossless()));
     if (!reader_ || !writer_)
       throw std::runtime_error("Fast DDS could not create the bare prober's endpoints");
   }
@@ -83,9 +83,9 @@ class BareEchoer : public Echoer, public BareReaderListener<T, BareEchoer<T>> {
     auto* pong =
         participant.topic(pong_topic, eprosima::fastdds::dds::TypeSupport(new PubSubType()));
     writer_ =
-        participant.publisher()->create_datawriter(pong, bareWriterQos(BareProfile::kDefaults));
+        participant.publisher()->create_datawriter(pong, bareWriterQos<T>(QosProfile::defaults()));
     reader_ = participant.subscriber()->create_datareader(
-        ping, bareReaderQos(BareProfile::kLossless), this);
+        ping, bareReaderQos<T>(QosProfile::lossless()), this);
     if (!reader_ || !writer_)
       throw std::runtime_error("Fast DDS could not create the bare echo's endpoints");
   }

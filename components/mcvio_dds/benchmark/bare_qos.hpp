@@ -1,27 +1,37 @@
 #pragma once
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+#include <string>
+
+#include "mcvio/dds/fastdds_qos.hpp"
+#include "mcvio/dds/qos_profile.hpp"
+#include "mcvio/interfaces/message_registry.hpp"
+#include "mcvio/interfaces/ros_type_traits.hpp"
 
 namespace mcvio::dds::bench {
 
-// Written out by hand, as a bare Fast DDS user would, for the two mcvio::dds presets the benchmark
-// uses, on an unbounded type (Image and Imu hold strings and sequences).
-// checkBareQosMatchesWrapper() proves at start-up that they equal
-// mcvio::dds::toWriterQos/toReaderQos apart from the type-hash user data, so wrapper and bare
-// endpoints are compared under identical QoS.
+// The bare endpoints take the very QoS objects mcvio::dds builds for its own endpoints of type T
+// (type-hash user data included), so the comparison measures the per-message code path and stays
+// fair whenever the presets are tuned. QoS is built once per endpoint: it is not part of the cost
+// being measured.
 
-/// The mcvio::dds preset a bare endpoint mirrors.
-enum class BareProfile {
-  kLossless,  ///< QosProfile::lossless(): reliable, volatile, keep all <= 100 samples, 1 s max
-              ///< blocking
-  kDefaults,  ///< QosProfile::defaults(): reliable, volatile, keep last 10
-};
+template <class T>
+std::string typeHashOf() {
+  return std::string(interfaces::MessageRegistry::get(interfaces::RosType<T>::kName).type_hash);
+}
 
-/// Writer QoS for `profile`, with the reallocating payload pool mcvio uses for unbounded types.
-eprosima::fastdds::dds::DataWriterQos bareWriterQos(BareProfile profile);
-/// Reader QoS for `profile`, with the reallocating payload pool mcvio uses for unbounded types.
-eprosima::fastdds::dds::DataReaderQos bareReaderQos(BareProfile profile);
-/// Throws std::logic_error when the hand-written QoS drifted away from mcvio::dds's presets.
-void checkBareQosMatchesWrapper();
+/// DataWriterQos of an mcvio::dds publisher of T with `profile`.
+template <class T>
+eprosima::fastdds::dds::DataWriterQos bareWriterQos(const QosProfile& profile) {
+  typename interfaces::RosType<T>::PubSubType type;
+  return toWriterQos(profile, typeHashOf<T>(), !type.is_bounded());
+}
+
+/// DataReaderQos of an mcvio::dds subscription of T with `profile`.
+template <class T>
+eprosima::fastdds::dds::DataReaderQos bareReaderQos(const QosProfile& profile) {
+  typename interfaces::RosType<T>::PubSubType type;
+  return toReaderQos(profile, typeHashOf<T>(), !type.is_bounded());
+}
 
 }  // namespace mcvio::dds::bench
