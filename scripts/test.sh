@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Set up (install what is missing, build) and run every test of every package.
+# The last line is the summary: "N passed, N failed, N skipped".
+set -uo pipefail
+cd "$(dirname "$0")/.."
+scripts/setup.sh || { echo "0 passed, 1 failed (set-up or build failed)"; exit 1; }
+
+# Sequential packages: the DDS tests of different packages would otherwise compete for 2 cores.
+colcon test --metas colcon.meta --executor sequential --ctest-args --output-on-failure \
+  --event-handlers console_cohesion+ summary+ status- || true
+result=$(colcon test-result --test-result-base build --all 2>&1)
+status=$?
+echo "$result" | grep -vE '^build/.*: [0-9]+ tests, 0 errors, 0 failures' | tail -n 40
+summary=$(echo "$result" | grep -E '^Summary:' | tail -n 1)
+total=$(sed -E 's/.* ([0-9]+) tests.*/\1/' <<<"$summary")
+errors=$(sed -E 's/.* ([0-9]+) errors.*/\1/' <<<"$summary")
+failures=$(sed -E 's/.* ([0-9]+) failures.*/\1/' <<<"$summary")
+skipped=$(sed -E 's/.* ([0-9]+) skipped.*/\1/' <<<"$summary")
+if [ -z "$summary" ]; then
+  echo "0 passed, 1 failed (no test results found)"
+  exit 1
+fi
+failed=$((errors + failures))
+echo "$((total - failed - skipped)) passed, ${failed} failed, ${skipped} skipped"
+[ "$failed" -eq 0 ] && [ "$status" -eq 0 ]
