@@ -53,4 +53,4 @@ done
 # Build every package; Release and per-package CMake arguments come from colcon.meta.
 jobs=$(nproc)
 MAKEFLAGS="-j${jobs}" colcon build --metas colcon.meta --parallel-workers "${jobs}" \
-  --event-handlers console_cohesion- console_stderr+ summary+ status-
+  --event-handlers console_cohesion- console_stderr+ summary+

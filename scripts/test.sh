@@ -7,7 +7,7 @@ scripts/setup.sh || { echo "0 passed, 1 failed (set-up or build failed)"; exit 1
 
 # Sequential packages: the DDS tests of different packages would otherwise compete for 2 cores.
 colcon test --metas colcon.meta --executor sequential --ctest-args --output-on-failure \
-  --event-handlers console_cohesion+ summary+ status- || true
+  --event-handlers console_cohesion+ summary+ || true
 result=$(colcon test-result --test-result-base build --all 2>&1)
 status=$?
 echo "$result" | grep -vE '^build/.*: [0-9]+ tests, 0 errors, 0 failures' | tail -n 40
