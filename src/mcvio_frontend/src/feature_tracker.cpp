@@ -32,6 +32,21 @@ cv::Point2f toCv(const Eigen::Vector2d& p) {
   return {static_cast<float>(p.x()), static_cast<float>(p.y())};
 }
 
+// dst = src * gain + offset with gain/offset blended between two block rows (weight wy).
+// Cloned for AVX2 where the compiler supports it: this loop touches every pixel of both images.
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void blendGainRow(const uchar* src, const float* ga, const float* gb, const float* oa, const float* ob,
+                  float wy, uchar* dst, int w) {
+  for (int x = 0; x < w; ++x) {
+    const float g = ga[x] + wy * (gb[x] - ga[x]);
+    const float o = oa[x] + wy * (ob[x] - oa[x]);
+    const float v = static_cast<float>(src[x]) * g + o + 0.5f;
+    dst[x] = static_cast<uchar>(v < 0.0f ? 0.0f : (v > 255.0f ? 255.0f : v));
+  }
+}
+
 }  // namespace
 
 const char* toString(FrameStatus status) {
@@ -140,40 +155,32 @@ void FeatureTracker::prepareImage(const cv::Mat& raw, cv::Mat* out) const {
     gain[k] = static_cast<float>(g);
     offset[k] = static_cast<float>(128.0 - g * m);
   }
-  // Horizontal blending weights per column: between the centres of blocks c0 and c0 + 1.
-  std::vector<int> c0(static_cast<std::size_t>(w));
-  std::vector<float> wx(static_cast<std::size_t>(w));
+  // Gain and offset blended horizontally at every column, once per block row; each image row
+  // then blends two of these rows: contiguous loops the compiler vectorises.
+  std::vector<float> gx(static_cast<std::size_t>(gh * w)), ox(gx.size());
   for (int x = 0; x < w; ++x) {
     const float f = std::clamp((x + 0.5f) / block - 0.5f, 0.0f, static_cast<float>(gw - 1));
-    c0[static_cast<std::size_t>(x)] = std::min(static_cast<int>(f), std::max(gw - 2, 0));
-    wx[static_cast<std::size_t>(x)] = f - static_cast<float>(c0[static_cast<std::size_t>(x)]);
+    const int ca = std::min(static_cast<int>(f), std::max(gw - 2, 0));
+    const int cb = std::min(ca + 1, gw - 1);
+    const float wx = f - static_cast<float>(ca);
+    for (int r = 0; r < gh; ++r) {
+      const std::size_t a = static_cast<std::size_t>(r * gw + ca), b = static_cast<std::size_t>(r * gw + cb);
+      const std::size_t o = static_cast<std::size_t>(r * w + x);
+      gx[o] = gain[a] + wx * (gain[b] - gain[a]);
+      ox[o] = offset[a] + wx * (offset[b] - offset[a]);
+    }
   }
   out->create(h, w, CV_8UC1);
-  std::vector<float> grow(static_cast<std::size_t>(gw)), orow(static_cast<std::size_t>(gw));
-  std::vector<float> gx(static_cast<std::size_t>(w)), ox(static_cast<std::size_t>(w));
   for (int y = 0; y < h; ++y) {
     const float f = std::clamp((y + 0.5f) / block - 0.5f, 0.0f, static_cast<float>(gh - 1));
     const int r0 = std::min(static_cast<int>(f), std::max(gh - 2, 0));
     const int r1 = std::min(r0 + 1, gh - 1);
     const float wy = f - static_cast<float>(r0);
-    for (int c = 0; c < gw; ++c) {
-      const std::size_t a = static_cast<std::size_t>(r0 * gw + c), b = static_cast<std::size_t>(r1 * gw + c);
-      grow[static_cast<std::size_t>(c)] = gain[a] + wy * (gain[b] - gain[a]);
-      orow[static_cast<std::size_t>(c)] = offset[a] + wy * (offset[b] - offset[a]);
-    }
-    for (int x = 0; x < w; ++x) {
-      const std::size_t xi = static_cast<std::size_t>(x);
-      const std::size_t ca = static_cast<std::size_t>(c0[xi]);
-      const std::size_t cb = std::min(ca + 1, static_cast<std::size_t>(gw - 1));
-      gx[xi] = grow[ca] + wx[xi] * (grow[cb] - grow[ca]);
-      ox[xi] = orow[ca] + wx[xi] * (orow[cb] - orow[ca]);
-    }
-    const uchar* src = raw.ptr<uchar>(y);
-    uchar* dst = out->ptr<uchar>(y);
-    for (int x = 0; x < w; ++x) {
-      const float v = static_cast<float>(src[x]) * gx[static_cast<std::size_t>(x)] + ox[static_cast<std::size_t>(x)];
-      dst[x] = static_cast<uchar>(std::clamp(v + 0.5f, 0.0f, 255.0f));
-    }
+    const float* ga = gx.data() + static_cast<std::size_t>(r0 * w);
+    const float* gb = gx.data() + static_cast<std::size_t>(r1 * w);
+    const float* oa = ox.data() + static_cast<std::size_t>(r0 * w);
+    const float* ob = ox.data() + static_cast<std::size_t>(r1 * w);
+    blendGainRow(raw.ptr<uchar>(y), ga, gb, oa, ob, wy, out->ptr<uchar>(y), w);
   }
 }
 
@@ -477,13 +484,45 @@ void FeatureTracker::matchStereo(const std::vector<cv::Mat>& left_pyr,
   const cv::Size win(options_.window_size, options_.window_size);
   const cv::TermCriteria crit(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
                               options_.klt_max_iterations, options_.klt_epsilon);
-  std::vector<uchar> st_fwd, st_bwd;
+  const std::vector<cv::Point2f> predicted = rpts;
+  std::vector<uchar> st_fwd;
   std::vector<float> err;
   cv::calcOpticalFlowPyrLK(left_pyr, right_pyr, lpts, rpts, st_fwd, err, win,
                            options_.pyramid_levels, crit, cv::OPTFLOW_USE_INITIAL_FLOW);
+  // Left-right-left check, skipped for a track whose match lands within
+  // stereo_prediction_tolerance_px of where last frame's verified disparity put it: that match is
+  // already confirmed by the previous frame's check and this frame's temporal tracks.
+  std::vector<int> verify;
+  std::vector<bool> confirmed(n, false);
+  const double tol2 = options_.stereo_prediction_tolerance_px * options_.stereo_prediction_tolerance_px;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!st_fwd[i]) continue;
+    const cv::Point2f d = rpts[i] - predicted[i];
+    if (tracks_[i].stereo && d.dot(d) <= tol2) {
+      confirmed[i] = true;
+    } else {
+      verify.push_back(static_cast<int>(i));
+    }
+  }
+  std::vector<uchar> st_bwd(n, 0);
   back = lpts;
-  cv::calcOpticalFlowPyrLK(right_pyr, left_pyr, rpts, back, st_bwd, err, win,
-                           options_.pyramid_levels, crit, cv::OPTFLOW_USE_INITIAL_FLOW);
+  if (!verify.empty()) {
+    std::vector<cv::Point2f> vr, vl;
+    for (int i : verify) {
+      vr.push_back(rpts[static_cast<std::size_t>(i)]);
+      vl.push_back(lpts[static_cast<std::size_t>(i)]);
+    }
+    std::vector<uchar> vst;
+    cv::calcOpticalFlowPyrLK(right_pyr, left_pyr, vr, vl, vst, err, win, options_.pyramid_levels, crit,
+                             cv::OPTFLOW_USE_INITIAL_FLOW);
+    for (std::size_t k = 0; k < verify.size(); ++k) {
+      st_bwd[static_cast<std::size_t>(verify[k])] = vst[k];
+      back[static_cast<std::size_t>(verify[k])] = vl[k];
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (confirmed[i]) st_bwd[i] = 1;
+  }
   const double fb2 = options_.stereo_fb_threshold_px * options_.stereo_fb_threshold_px;
   const double f1 = 0.5 * (cam1.fu() + cam1.fv());
   for (std::size_t i = 0; i < n; ++i) {

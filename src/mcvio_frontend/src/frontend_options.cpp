@@ -51,6 +51,8 @@ void FrontendOptions::validate() const {
           "stereo_fb_threshold_px", "must be > 0");
   require(stereo_epipolar_threshold_px > 0 && std::isfinite(stereo_epipolar_threshold_px),
           "stereo_epipolar_threshold_px", "must be > 0");
+  require(stereo_prediction_tolerance_px >= 0 && std::isfinite(stereo_prediction_tolerance_px),
+          "stereo_prediction_tolerance_px", "must be >= 0");
   require(min_depth_m > 0 && std::isfinite(min_depth_m), "min_depth_m", "must be > 0");
   require(max_depth_m > min_depth_m && std::isfinite(max_depth_m), "max_depth_m",
           "must be > min_depth_m");
@@ -91,6 +93,7 @@ FrontendOptions FrontendOptions::fromYaml(const YAML::Node& node, const std::str
       {"max_imu_gap_ns", bind(&o.max_imu_gap_ns)},
       {"stereo_fb_threshold_px", bind(&o.stereo_fb_threshold_px)},
       {"stereo_epipolar_threshold_px", bind(&o.stereo_epipolar_threshold_px)},
+      {"stereo_prediction_tolerance_px", bind(&o.stereo_prediction_tolerance_px)},
       {"min_depth_m", bind(&o.min_depth_m)},
       {"max_depth_m", bind(&o.max_depth_m)},
       {"ransac_threshold_px", bind(&o.ransac_threshold_px)},

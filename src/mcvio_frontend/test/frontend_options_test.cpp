@@ -52,7 +52,16 @@ TEST(FrontendOptions, FileWithFrontendSection) {
 
 TEST(FrontendOptions, ShippedConfigLoads) {
   const FrontendOptions o = FrontendOptions::fromFile(MCVIO_FRONTEND_CONFIG_DIR "/frontend.yaml");
-  EXPECT_EQ(o.max_features, FrontendOptions().max_features);
+  // The shipped file documents the defaults: keep them equal.
+  const FrontendOptions d;
+  EXPECT_EQ(o.max_features, d.max_features);
+  EXPECT_EQ(o.window_size, d.window_size);
+  EXPECT_EQ(o.klt_max_iterations, d.klt_max_iterations);
+  EXPECT_DOUBLE_EQ(o.klt_epsilon, d.klt_epsilon);
+  EXPECT_EQ(o.exposure_normalization, d.exposure_normalization);
+  EXPECT_EQ(o.normalization_block_px, d.normalization_block_px);
+  EXPECT_DOUBLE_EQ(o.ransac_threshold_px, d.ransac_threshold_px);
+  EXPECT_DOUBLE_EQ(o.stereo_prediction_tolerance_px, d.stereo_prediction_tolerance_px);
 }
 
 }  // namespace

@@ -22,21 +22,24 @@ struct FrontendOptions {
 
   // KLT
   int pyramid_levels = 3;          ///< highest pyramid level (0 = no pyramid)
-  int window_size = 21;            ///< KLT window side [px], odd
-  int klt_max_iterations = 30;
-  double klt_epsilon = 0.01;       ///< KLT stop when the update is below this [px]
+  int window_size = 13;            ///< KLT window side [px], odd (13: 5 ms/frame budget)
+  int klt_max_iterations = 15;
+  double klt_epsilon = 0.03;       ///< KLT stop when the update is below this [px]
   double fb_threshold_px = 0.5;    ///< forward-backward error above this drops a temporal track
   bool use_gyro_prediction = true; ///< initial flow from integrated gyro rotation
   /// Photometric normalisation before KLT, so gain/exposure changes do not break tracks:
   /// "none"; "global" (whole-image mean/std); "local" (mean/std over blocks of
   /// normalization_block_px, bilinearly blended: also copes with partial saturation and vignetting).
   std::string exposure_normalization = "local";
-  int normalization_block_px = 32;
+  int normalization_block_px = 64;
   long long max_imu_gap_ns = 30'000'000;  ///< larger holes in the IMU stream disable prediction
 
   // Stereo
   double stereo_fb_threshold_px = 1.0;         ///< left-right-left error limit
   double stereo_epipolar_threshold_px = 2.0;   ///< distance to the epipolar line in cam1
+  /// A track matched last frame whose new right point lands this close to the disparity
+  /// carried over skips the left-right-left check (0 = always check) [px].
+  double stereo_prediction_tolerance_px = 0.5;
   double min_depth_m = 0.1;                    ///< stereo points nearer than this are rejected
   double max_depth_m = 200.0;                  ///< ... and farther than this
 
