@@ -130,22 +130,26 @@ dataset::ConflictLabel Simulator::labelFor(Timestamp t, const RenderResult& cam0
   return label;
 }
 
-StereoRender Simulator::renderFrame(std::size_t index) const {
-  StereoRender out;
+RenderResult Simulator::renderCamera(std::size_t index, int camera) const {
   const Timestamp t = frame_times_.at(index);
-  out.t = t;
-  const Eigen::Isometry3d T_WB = bodyPose(t);
   const double s = toSeconds(t - frame_times_.front());
   const double w = 2.0 * M_PI / options_.gain_period_s;
   RenderSettings settings;
+  // Slow exposure/gain drift shared by both cameras, as an auto-exposure would produce.
   settings.gain = 1.0 + options_.gain_drift * (0.7 * std::sin(w * s) + 0.3 * std::sin(2.7 * w * s + 1.0));
   settings.noise_sigma = options_.pixel_noise_sigma;
-  RenderResult r0, r1;
-  settings.noise_seed = mixSeed(options_.seed, 2 * index + 100);
-  renderer(0).render(world_.scene, t, T_WB, settings, &r0);
-  settings.noise_seed = mixSeed(options_.seed, 2 * index + 101);
-  renderer(1).render(world_.scene, t, T_WB, settings, &r1);
-  out.label = labelFor(t, r0);
+  settings.noise_seed = mixSeed(options_.seed, 2 * index + 100 + static_cast<std::uint64_t>(camera));
+  RenderResult r;
+  renderer(camera).render(world_.scene, t, bodyPose(t), settings, &r);
+  return r;
+}
+
+StereoRender Simulator::renderFrame(std::size_t index) const {
+  StereoRender out;
+  out.t = frame_times_.at(index);
+  RenderResult r0 = renderCamera(index, 0);
+  RenderResult r1 = renderCamera(index, 1);
+  out.label = labelFor(out.t, r0);
   out.cam0 = r0.image;
   out.cam1 = r1.image;
   out.cam0_body_ids = r0.body_ids;

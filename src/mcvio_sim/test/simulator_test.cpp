@@ -7,6 +7,7 @@
 
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/dataset/euroc_dataset.hpp"
+#include "mcvio/sim/image_injector.hpp"
 #include "mcvio/sim/simulator.hpp"
 
 namespace mcvio::sim {
@@ -52,7 +53,9 @@ TEST(Simulator, ElevatorFramesAreInConflictExactlyDuringTheRide) {
   const Timestamp end = onset + fromSeconds(4.0);
   int in_conflict = 0;
   for (size_t k = 0; k < sim.frameTimes().size(); ++k) {
-    const StereoRender f = sim.renderFrame(k);
+    StereoRender f;
+    f.t = sim.frameTimes()[k];
+    f.label = sim.labelFor(f.t, sim.renderCamera(k, 0));
     const bool riding = f.t > onset && f.t < end;
     EXPECT_EQ(f.label.in_conflict, riding) << "frame " << k;
     if (riding) {
@@ -157,6 +160,20 @@ TEST(SimulatorOptions, YamlKeysAreReadAndMistakesAreNamed) {
   EXPECT_NE(message("duration_s: 10\nscenario: {onset_s: 8, duration_s: 5}").find("scenario.duration_s"),
             std::string::npos);
   EXPECT_NE(message("semi_real: {imu_csv: x.csv}").find("semi_real.groundtruth_csv"), std::string::npos);
+}
+
+TEST(SimulatorOptions, ShippedExamplesAreValid) {
+  const std::string dir = MCVIO_SIM_CONFIG_DIR;
+  EXPECT_EQ(SimulatorOptions::fromYamlFile(dir + "/sim_elevator.yaml").scenario.kind, ScenarioKind::kElevator);
+  const SimulatorOptions semi = SimulatorOptions::fromYamlFile(dir + "/sim_semi_real_vehicle.yaml");
+  EXPECT_TRUE(semi.semiReal());
+  EXPECT_EQ(InjectOptions::fromYamlFile(dir + "/inject_moving_image.yaml").depth_m, 1.2);
+  try {
+    SimulatorOptions::fromYamlFile(dir + "/does_not_exist.yaml");
+    FAIL() << "a missing file must throw";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("does_not_exist.yaml"), std::string::npos);
+  }
 }
 
 }  // namespace

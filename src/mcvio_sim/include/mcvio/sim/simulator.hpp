@@ -59,6 +59,9 @@ class Simulator {
   Eigen::Isometry3d bodyPose(Timestamp t) const;
   /// Renders stereo frame `index` (of frameTimes()).
   StereoRender renderFrame(std::size_t index) const;
+  /// Renders one camera (0 or 1) of frame `index`, with body ids: what renderFrame() does per
+  /// camera, for callers that need only one image or only the label (labelFor(t, cam0)).
+  RenderResult renderCamera(std::size_t index, int camera) const;
   /// Conflict label of a cam0 rendering: fraction of pixels on bodies moving in the world.
   dataset::ConflictLabel labelFor(Timestamp t, const RenderResult& cam0) const;
 
