@@ -61,20 +61,17 @@ class MipmappedTexture {
     const int n = size_ >> level;
     const int mask = n - 1;
     const std::uint8_t* img = levels_[static_cast<size_t>(level)].data();
-    // Shift by a multiple of the size so the integer part is non-negative before truncation;
-    // the mask wraps it back into the texture.
-    const float fx = x - 0.5f + kWrapBias, fy = y - 0.5f + kWrapBias;
-    const int ix = static_cast<int>(fx), iy = static_cast<int>(fy);
-    const float ax = fx - static_cast<float>(ix), ay = fy - static_cast<float>(iy);
-    const int x0 = ix & mask, y0 = iy & mask;
+    // 24.8 fixed point: the integer part (floored by the arithmetic shift, also for negative
+    // coordinates) wraps with the mask, the low 8 bits weight the neighbours.
+    const int X = static_cast<int>((x - 0.5f) * 256.0f), Y = static_cast<int>((y - 0.5f) * 256.0f);
+    const int x0 = (X >> 8) & mask, y0 = (Y >> 8) & mask;
     const int x1 = (x0 + 1) & mask, y1 = (y0 + 1) & mask;
-    const float a = img[index(n, x0, y0)], b = img[index(n, x1, y0)];
-    const float c = img[index(n, x0, y1)], d = img[index(n, x1, y1)];
-    const float top = a + ax * (b - a), bottom = c + ax * (d - c);
-    return top + ay * (bottom - top);
+    const int fx = X & 255, fy = Y & 255;
+    const int a = img[index(n, x0, y0)], b = img[index(n, x1, y0)];
+    const int c = img[index(n, x0, y1)], d = img[index(n, x1, y1)];
+    const int top = (a << 8) + fx * (b - a), bottom = (c << 8) + fx * (d - c);
+    return static_cast<float>((top << 8) + fy * (bottom - top)) * (1.0f / 65536.0f);
   }
-  /// A power of two larger than any texture: keeps coordinates of far-away texels positive.
-  static constexpr float kWrapBias = 65536.0f;
 
   int size_ = 0;
   std::vector<std::vector<std::uint8_t>> levels_;  // each in 8x8 blocks (row-major below 8x8)
