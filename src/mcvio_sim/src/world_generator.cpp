@@ -329,10 +329,24 @@ SimulatedWorld WorldGenerator::generate(const Inputs& in) {
       const double wall = w.scene.castRay(cam, f, mid, Eigen::Isometry3d::Identity());
       const double area = 0.45 * 1.78;
       const double want = std::sqrt(area / (1.7 * std::clamp(sc.coverage, 0.02, 1.0)));
-      const double d = std::clamp(want, 0.8, std::max(0.8, 0.75 * std::min(wall, 20.0)));
+      const double d_max = std::max(0.8, 0.75 * std::min(wall, 20.0));
       const Vector3d side = kZ.cross(f).normalized();
-      const double len = sc.travel_m != 0.0 ? sc.travel_m : 2.0 * (1.0 * d + 0.8);
-      const Vector3d start(cam.x() + d * f.x() - 0.5 * len * side.x(), cam.y() + d * f.y() - 0.5 * len * side.y(), floor_z);
+      // Walk path for a crossing at distance d, and whether the device stays clear of it.
+      auto walk = [&](double d, Vector3d* start, double* len) {
+        *len = sc.travel_m != 0.0 ? sc.travel_m : 2.0 * (1.0 * d + 0.8);
+        *start = Vector3d(cam.x() + d * f.x() - 0.5 * *len * side.x(), cam.y() + d * f.y() - 0.5 * *len * side.y(), floor_z);
+        const RideProfile ride(onset, duration, side, *len);
+        for (Timestamp t = onset; t <= onset + duration; t += fromSeconds(0.05)) {
+          const Vector3d p = *start + ride.displacement(t);
+          const Vector3d dev = local->evaluate(t).p_wb;
+          if (Eigen::Vector2d(dev.x() - p.x(), dev.y() - p.y()).norm() < 0.75) return false;
+        }
+        return true;
+      };
+      double d = std::clamp(want, 0.8, d_max), len = 0;
+      Vector3d start;
+      while (!walk(d, &start, &len) && d + 0.2 <= d_max) d += 0.2;
+      walk(d, &start, &len);
       SceneBody person;
       person.name = "pedestrian";
       person.motion = BodyMotion::kRide;
