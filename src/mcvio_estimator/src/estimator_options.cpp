@@ -56,6 +56,8 @@ void EstimatorOptions::validate() const {
           repropagate_accel_bias_change);
   require(max_imu_gap_s > 0, "max_imu_gap_s", "must be > 0", max_imu_gap_s);
   require(max_iterations >= 1, "max_iterations", "must be >= 1", max_iterations);
+  require(function_tolerance > 0 && function_tolerance < 1, "function_tolerance", "must be in (0, 1)",
+          function_tolerance);
   require(max_solver_time_s > 0, "max_solver_time_s", "must be > 0", max_solver_time_s);
   require(num_threads >= 1, "num_threads", "must be >= 1", num_threads);
   require(init_window_s > 0, "init_window_s", "must be > 0", init_window_s);
@@ -113,6 +115,7 @@ EstimatorOptions EstimatorOptions::fromYaml(const YAML::Node& node, const std::s
   read(node, "min_depth_m", &o.min_depth_m, c);
   read(node, "max_depth_m", &o.max_depth_m, c);
   read(node, "min_stereo_disparity_px", &o.min_stereo_disparity_px, c);
+  read(node, "right_camera_in_all_frames", &o.right_camera_in_all_frames, c);
   read(node, "gravity_magnitude", &o.gravity_magnitude, c);
   read(node, "imu_noise_inflation", &o.imu_noise_inflation, c);
   read(node, "imu_random_walk_inflation", &o.imu_random_walk_inflation, c);
@@ -120,6 +123,7 @@ EstimatorOptions EstimatorOptions::fromYaml(const YAML::Node& node, const std::s
   read(node, "repropagate_accel_bias_change", &o.repropagate_accel_bias_change, c);
   read(node, "max_imu_gap_s", &o.max_imu_gap_s, c);
   read(node, "max_iterations", &o.max_iterations, c);
+  read(node, "function_tolerance", &o.function_tolerance, c);
   read(node, "max_solver_time_s", &o.max_solver_time_s, c);
   read(node, "num_threads", &o.num_threads, c);
   read(node, "compute_covariance", &o.compute_covariance, c);

@@ -97,7 +97,63 @@ void Marginalizer::reducedSystem(const std::vector<const double*>& order, const 
   Eigen::VectorXd r;
   std::vector<Eigen::MatrixXd> J;
   std::vector<int> offs;
+  auto coupling = [](LandmarkTerms& t, int off, const Eigen::Matrix<double, 3, 6>& c) {
+    for (auto& [o, m] : t.coupling)
+      if (o == off) {
+        m += c;
+        return;
+      }
+    t.coupling.emplace_back(off, c);
+  };
   for (const auto& res : residuals_) {
+    // Fast path with fixed sizes for the dominant visual residual: 2 rows over
+    // [pose, pose, eliminated 3-dof landmark].
+    if (res.cost->num_residuals() == 2 && res.parameters.size() == 3 && drop.count(res.parameters[2]) != 0) {
+      const BlockInfo& b0 = blocks_.at(res.parameters[0]);
+      const BlockInfo& b1 = blocks_.at(res.parameters[1]);
+      const BlockInfo& b2 = blocks_.at(res.parameters[2]);
+      if (b0.kind == BlockKind::kPose && b1.kind == BlockKind::kPose && b2.kind == BlockKind::kLandmark &&
+          b2.size == 3 && drop.count(res.parameters[0]) == 0 && drop.count(res.parameters[1]) == 0) {
+        Eigen::Matrix<double, 2, 7, Eigen::RowMajor> G0, G1;
+        Eigen::Matrix<double, 2, 3, Eigen::RowMajor> G2;
+        Eigen::Vector2d rr;
+        double* jp[3] = {G0.data(), G1.data(), G2.data()};
+        if (!res.cost->Evaluate(res.parameters.data(), rr.data(), jp) || !rr.allFinite())
+          throw std::logic_error("Marginalizer: a residual block could not be evaluated");
+        Eigen::Matrix<double, 2, 6> J0, J1;
+        Eigen::Matrix<double, 2, 3> J2 = G2;
+        J0.leftCols<3>() = G0.leftCols<3>();
+        J0.rightCols<3>() = G0.rightCols<4>() * PoseManifold::quaternionPlusJacobian(Eigen::Map<const Eigen::Quaterniond>(b0.data + 3));
+        J1.leftCols<3>() = G1.leftCols<3>();
+        J1.rightCols<3>() = G1.rightCols<4>() * PoseManifold::quaternionPlusJacobian(Eigen::Map<const Eigen::Quaterniond>(b1.data + 3));
+        if (res.loss != nullptr) {
+          double rho[3];
+          res.loss->Evaluate(rr.squaredNorm(), rho);
+          const double sc = std::sqrt(std::max(rho[1], 0.0));
+          rr *= sc;
+          J0 *= sc;
+          J1 *= sc;
+          J2 *= sc;
+        }
+        const int o0 = offset.at(res.parameters[0]), o1 = offset.at(res.parameters[1]);
+        H->block<6, 6>(o0, o0).noalias() += J0.transpose() * J0;
+        H->block<6, 6>(o0, o1).noalias() += J0.transpose() * J1;
+        H->block<6, 6>(o1, o0).noalias() += J1.transpose() * J0;
+        H->block<6, 6>(o1, o1).noalias() += J1.transpose() * J1;
+        g->segment<6>(o0).noalias() += J0.transpose() * rr;
+        g->segment<6>(o1).noalias() += J1.transpose() * rr;
+        LandmarkTerms& t = landmarks[res.parameters[2]];
+        if (t.h.size() == 0) {
+          t.h.setZero(3, 3);
+          t.g.setZero(3);
+        }
+        t.h += J2.transpose() * J2;
+        t.g += J2.transpose() * rr;
+        coupling(t, o0, J2.transpose() * J0);
+        coupling(t, o1, J2.transpose() * J1);
+        continue;
+      }
+    }
     if (!linearize(res, &r, &J)) throw std::logic_error("Marginalizer: a residual block could not be evaluated");
     const double* lm = nullptr;
     std::size_t li = 0;
@@ -146,6 +202,26 @@ void Marginalizer::reducedSystem(const std::vector<const double*>& order, const 
   }
   // Exact Schur complement of each landmark (no residual couples two of them).
   for (const auto& [ptr, t] : landmarks) {
+    const bool fixed = t.h.rows() == 3 && std::all_of(t.coupling.begin(), t.coupling.end(),
+                                                       [](const auto& c) { return c.second.cols() == 6; });
+    if (fixed) {
+      // 3-dof landmark coupled to poses only: fixed-size arithmetic.
+      const Eigen::Matrix3d h = t.h;
+      Eigen::Matrix3d h_inv;
+      Eigen::LLT<Eigen::Matrix3d> llt(h);
+      if (llt.info() == Eigen::Success && h.diagonal().minCoeff() > 1e-12)
+        h_inv = llt.solve(Eigen::Matrix3d::Identity());
+      else
+        h_inv = pseudoInverse(Eigen::MatrixXd(h));
+      const Eigen::Vector3d tg = t.g;
+      for (const auto& [oa, ca] : t.coupling) {
+        const Eigen::Matrix<double, 6, 3> cah = Eigen::Matrix<double, 3, 6>(ca).transpose() * h_inv;
+        g->segment<6>(oa).noalias() -= cah * tg;
+        for (const auto& [ob, cb] : t.coupling)
+          H->block<6, 6>(oa, ob).noalias() -= cah * Eigen::Matrix<double, 3, 6>(cb);
+      }
+      continue;
+    }
     const Eigen::MatrixXd h_inv = pseudoInverse(Eigen::MatrixXd(t.h));
     for (const auto& [oa, ca] : t.coupling) {
       const Eigen::MatrixXd cah = ca.transpose() * h_inv;

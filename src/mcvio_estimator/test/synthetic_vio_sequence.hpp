@@ -62,7 +62,9 @@ struct RunResult {
   int tracked_frames = 0;                ///< frames with status kTracking and an accepted state
   double ate_m = 0;                      ///< position+yaw aligned ATE RMSE over tracked frames
   double mean_position_nees = 0;         ///< over tracked frames with valid covariance
-  double median_total_ms = 0;
+  double median_total_ms = 0;            ///< wall clock, as reported by the estimator
+  double median_cpu_ms = 0;              ///< thread CPU time of addFrame (robust to a loaded machine)
+  double p90_cpu_ms = 0;
   double max_abs_position_error_m = 0;   ///< unaligned
   int resets = 0;
 };

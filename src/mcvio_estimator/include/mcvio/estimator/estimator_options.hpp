@@ -28,6 +28,9 @@ struct EstimatorOptions {
   double min_depth_m = 0.1;                  ///< landmarks closer than this are rejected
   double max_depth_m = 40.0;                 ///< landmarks farther than this are rejected
   double min_stereo_disparity_px = 0.5;      ///< stereo pairs with less disparity give no depth
+  /// Right-camera observations enter in every frame (true) or only in a landmark's anchor frame,
+  /// where they fix its depth (false: about half the visual residuals, faster).
+  bool right_camera_in_all_frames = true;
 
   // IMU. Multiplying the datasheet densities absorbs unmodelled effects on real sensors.
   double gravity_magnitude = 9.81;           ///< [m/s^2], world z up
@@ -39,6 +42,7 @@ struct EstimatorOptions {
 
   // Solver.
   int max_iterations = 8;
+  double function_tolerance = 1e-4;          ///< Ceres stops when the relative cost change is below this
   double max_solver_time_s = 0.05;           ///< time budget per frame for Ceres
   int num_threads = 1;
   bool compute_covariance = true;            ///< pose covariance of the newest frame in the output

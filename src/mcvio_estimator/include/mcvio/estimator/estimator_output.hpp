@@ -26,7 +26,8 @@ struct EstimatorTimings {
   double solve_ms = 0;
   double marginalization_ms = 0;
   double covariance_ms = 0;
-  double total_ms = 0;
+  double total_ms = 0;           ///< wall clock of addFrame()
+  double cpu_total_ms = 0;       ///< CPU time of the calling thread in addFrame()
 };
 
 /// The estimator's answer for one frame.
