@@ -286,9 +286,11 @@ void CameraRenderer::render(const Scene& scene, Timestamp t, const Eigen::Isomet
           if (best) {
             // Pixel footprint on the surface, foreshortened by the viewing angle (geometric
             // mean of the two axes), in texels: that picks the mip level.
+            // log2 of the squared footprint halves to the level without a square root.
             const float cos_view = std::max(std::abs(bden) / ray_norm_[i], 0.05f);
-            const float texels = best_t * footprint_[i] * best->inv_texel / std::sqrt(cos_view);
-            const float lod = texels > 1.0f ? fastLog2(texels) : 0.0f;
+            const float size = best_t * footprint_[i] * best->inv_texel;
+            const float texels_sq = size * size / cos_view;
+            const float lod = texels_sq > 1.0f ? 0.5f * fastLog2(texels_sq) : 0.0f;
             radiance = best->brightness * best->texture->sample(bu * best->inv_texel + best->off_u,
                                                                 bv * best->inv_texel + best->off_v,
                                                                 lod);
