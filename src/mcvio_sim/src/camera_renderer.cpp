@@ -290,7 +290,7 @@ void CameraRenderer::render(const Scene& scene, Timestamp t, const Eigen::Isomet
             const float cos_view = std::max(std::abs(bden) / ray_norm_[i], 0.05f);
             const float size = best_t * footprint_[i] * best->inv_texel;
             const float texels_sq = size * size / cos_view;
-            const float lod = texels_sq > 1.0f ? 0.5f * fastLog2(texels_sq) : 0.0f;
+            const float lod = texels_sq > 1.0f && settings.mip_mapping ? 0.5f * fastLog2(texels_sq) : 0.0f;
             radiance = best->brightness * best->texture->sample(bu * best->inv_texel + best->off_u,
                                                                 bv * best->inv_texel + best->off_v,
                                                                 lod);

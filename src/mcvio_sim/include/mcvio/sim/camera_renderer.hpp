@@ -19,6 +19,7 @@ struct RenderSettings {
   /// untouched instead of the sky: used to overlay objects on real images.
   const cv::Mat* background = nullptr;
   bool want_depth = false;       ///< fill RenderResult::depth
+  bool mip_mapping = true;       ///< false samples the finest level only (aliases; for comparison)
 };
 
 /// One rendered image with per-pixel body ids.
