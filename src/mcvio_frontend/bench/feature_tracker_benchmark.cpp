@@ -4,13 +4,13 @@
 // MCVIO_FRONTEND_OPTIONS=<yaml file> overrides the default options.
 // Counters: cpu_median_ms / cpu_p90_ms per frame (thread CPU time, immune to other load on
 // the machine), wall_median_ms, mean CPU time per stage, features and stereo matches per frame.
+#include <benchmark/benchmark.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
-#include <vector>
-
-#include <benchmark/benchmark.h>
 #include <opencv2/core/utility.hpp>
+#include <vector>
 
 #include "euroc_excerpt.hpp"
 #include "mcvio/frontend/feature_tracker.hpp"
@@ -19,11 +19,12 @@
 namespace mcvio::frontend {
 namespace {
 
-void runFrames(benchmark::State& state, const StereoRigCalibration& calib, const std::vector<StereoInput>& frames,
-               Timestamp period) {
+void runFrames(benchmark::State& state, const StereoRigCalibration& calib,
+               const std::vector<StereoInput>& frames, Timestamp period) {
   // MCVIO_FRONTEND_OPTIONS=<yaml> benchmarks other settings than the defaults.
   const char* options_file = std::getenv("MCVIO_FRONTEND_OPTIONS");
-  FeatureTracker tracker(options_file ? FrontendOptions::fromFile(options_file) : FrontendOptions());
+  FeatureTracker tracker(options_file ? FrontendOptions::fromFile(options_file)
+                                      : FrontendOptions());
   tracker.setCalibration(calib);
   std::vector<double> ms, cpu_ms;
   double prepare = 0, temporal = 0, detect = 0, stereo_ms = 0;

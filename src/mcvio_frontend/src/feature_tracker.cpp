@@ -1,15 +1,14 @@
 #include "mcvio/frontend/feature_tracker.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <string>
 #include <ctime>
-
-#include <Eigen/Geometry>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
+#include <string>
 
 #include "mcvio/core/input_error.hpp"
 
@@ -51,11 +50,16 @@ void blendGainRow(const uchar* src, const float* ga, const float* gb, const floa
 
 const char* toString(FrameStatus status) {
   switch (status) {
-    case FrameStatus::kOk: return "ok";
-    case FrameStatus::kNoCalibration: return "no calibration";
-    case FrameStatus::kBadImage: return "bad image";
-    case FrameStatus::kMissingRight: return "missing right image";
-    case FrameStatus::kOutOfOrder: return "out of order";
+    case FrameStatus::kOk:
+      return "ok";
+    case FrameStatus::kNoCalibration:
+      return "no calibration";
+    case FrameStatus::kBadImage:
+      return "bad image";
+    case FrameStatus::kMissingRight:
+      return "missing right image";
+    case FrameStatus::kOutOfOrder:
+      return "out of order";
   }
   return "unknown";
 }
@@ -69,12 +73,14 @@ void FeatureTracker::setCalibration(const StereoRigCalibration& calibration) {
   for (int i = 0; i < 2; ++i) {
     const CameraCalibration& cam = calibration.camera(i);
     const Eigen::Matrix3d r = cam.T_BC.linear();
-    if (!cam.T_BC.matrix().allFinite() || (r * r.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-6) {
+    if (!cam.T_BC.matrix().allFinite() ||
+        (r * r.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-6) {
       throw InputError("frontend calibration: T_BC of " + cam.name + " is not a rigid transform");
     }
     if (cam.model.width() < 32 || cam.model.height() < 32) {
       throw InputError("frontend calibration: " + cam.name + " has no usable camera model (" +
-                       std::to_string(cam.model.width()) + "x" + std::to_string(cam.model.height()) + ")");
+                       std::to_string(cam.model.width()) + "x" +
+                       std::to_string(cam.model.height()) + ")");
     }
   }
   if (calibration.cam0.model.width() != calibration.cam1.model.width() ||
@@ -82,8 +88,8 @@ void FeatureTracker::setCalibration(const StereoRigCalibration& calibration) {
     throw InputError("frontend calibration: cam0 and cam1 resolutions differ");
   }
   if (calibration.baseline() < 1e-3) {
-    throw InputError("frontend calibration: stereo baseline is " + std::to_string(calibration.baseline()) +
-                     " m; cam0 and cam1 must be apart");
+    throw InputError("frontend calibration: stereo baseline is " +
+                     std::to_string(calibration.baseline()) + " m; cam0 and cam1 must be apart");
   }
   calibration_ = calibration;
   const CameraModel& cam0 = calibration.cam0.model;
@@ -164,7 +170,8 @@ void FeatureTracker::prepareImage(const cv::Mat& raw, cv::Mat* out) const {
     const int cb = std::min(ca + 1, gw - 1);
     const float wx = f - static_cast<float>(ca);
     for (int r = 0; r < gh; ++r) {
-      const std::size_t a = static_cast<std::size_t>(r * gw + ca), b = static_cast<std::size_t>(r * gw + cb);
+      const std::size_t a = static_cast<std::size_t>(r * gw + ca),
+                        b = static_cast<std::size_t>(r * gw + cb);
       const std::size_t o = static_cast<std::size_t>(r * w + x);
       gx[o] = gain[a] + wx * (gain[b] - gain[a]);
       ox[o] = offset[a] + wx * (offset[b] - offset[a]);
@@ -210,9 +217,9 @@ TrackingResult FeatureTracker::track(const StereoInput& input) {
                   std::string(names[i]) + " image is missing");
     }
     if (m.type() != CV_8UC1) {
-      return skip(FrameStatus::kBadImage, std::string(names[i]) +
-                                              " image encoding must be mono8 (CV_8UC1), got " +
-                                              describeMat(m));
+      return skip(
+          FrameStatus::kBadImage,
+          std::string(names[i]) + " image encoding must be mono8 (CV_8UC1), got " + describeMat(m));
     }
     const CameraModel& cam = calibration_->camera(i).model;
     if (m.cols != cam.width() || m.rows != cam.height()) {
@@ -222,8 +229,8 @@ TrackingResult FeatureTracker::track(const StereoInput& input) {
     }
   }
   if (has_prev_ && input.t <= prev_t_) {
-    return skip(FrameStatus::kOutOfOrder, "timestamp not after the previous frame t=" +
-                                              std::to_string(prev_t_));
+    return skip(FrameStatus::kOutOfOrder,
+                "timestamp not after the previous frame t=" + std::to_string(prev_t_));
   }
 
   TrackingStats& stats = result.stats;
@@ -246,7 +253,8 @@ TrackingResult FeatureTracker::track(const StereoInput& input) {
     Eigen::Matrix3d R_b_prev_cur;
     Eigen::Matrix3d R_cur_prev;
     bool have_rotation = false;
-    if (options_.use_gyro_prediction && gyro_.rotation(prev_t_, input.t, gyro_bias_, &R_b_prev_cur)) {
+    if (options_.use_gyro_prediction &&
+        gyro_.rotation(prev_t_, input.t, gyro_bias_, &R_b_prev_cur)) {
       const Eigen::Matrix3d R_bc = calibration_->cam0.T_BC.linear();
       R_cur_prev = (R_bc.transpose() * R_b_prev_cur * R_bc).transpose();
       have_rotation = true;
@@ -304,7 +312,8 @@ void FeatureTracker::trackTemporal(const std::vector<cv::Mat>& cur_pyr,
     cur_pts[i] = tracks_[i].left;
     if (R_cur_prev) {
       Eigen::Vector2d px;
-      if (cam0.projectAnywhere(Eigen::Vector3d(*R_cur_prev * tracks_[i].left_norm.homogeneous()), &px) &&
+      if (cam0.projectAnywhere(Eigen::Vector3d(*R_cur_prev * tracks_[i].left_norm.homogeneous()),
+                               &px) &&
           cam0.isInImage(px)) {
         cur_pts[i] = toCv(px);
       }
@@ -399,11 +408,13 @@ void FeatureTracker::detectNew(const cv::Mat& image, TrackingStats* stats) {
       const int x1 = std::min(w, static_cast<int>(b + (cx + 1) * cell_w) + 3);
       const int y1 = std::min(h, static_cast<int>(b + (cy + 1) * cell_h) + 3);
       const cv::Rect roi(x0, y0, x1 - x0, y1 - y0);
-      for (int thr = options_.fast_threshold; need > 0; thr = std::max(options_.fast_min_threshold, thr / 2)) {
+      for (int thr = options_.fast_threshold; need > 0;
+           thr = std::max(options_.fast_min_threshold, thr / 2)) {
         kps.clear();
         cv::FAST(image(roi), kps, thr, true);
-        std::sort(kps.begin(), kps.end(),
-                  [](const cv::KeyPoint& a, const cv::KeyPoint& c) { return a.response > c.response; });
+        std::sort(kps.begin(), kps.end(), [](const cv::KeyPoint& a, const cv::KeyPoint& c) {
+          return a.response > c.response;
+        });
         std::size_t k = 0;
         for (; k < kps.size() && need > 0 && total < max_features; ++k) {
           kps[k].pt.x += static_cast<float>(x0);
@@ -464,7 +475,8 @@ void FeatureTracker::matchStereo(const std::vector<cv::Mat>& left_pyr,
   }
   double guess_depth = 0.0;
   if (!depths.empty()) {
-    std::nth_element(depths.begin(), depths.begin() + static_cast<long>(depths.size() / 2), depths.end());
+    std::nth_element(depths.begin(), depths.begin() + static_cast<long>(depths.size() / 2),
+                     depths.end());
     guess_depth = depths[depths.size() / 2];
   }
   std::vector<cv::Point2f> lpts(n), rpts(n), back(n);
@@ -476,7 +488,8 @@ void FeatureTracker::matchStereo(const std::vector<cv::Mat>& left_pyr,
       rpts[i] = t.left + (t.right - (t.history.empty() ? t.left : t.history.back()));
     } else {
       const Eigen::Vector3d ray = t.left_norm.homogeneous();
-      const Eigen::Vector3d p1 = guess_depth > 0 ? Eigen::Vector3d(T10 * (ray * guess_depth)) : Eigen::Vector3d(R10 * ray);
+      const Eigen::Vector3d p1 =
+          guess_depth > 0 ? Eigen::Vector3d(T10 * (ray * guess_depth)) : Eigen::Vector3d(R10 * ray);
       Eigen::Vector2d px;
       rpts[i] = (cam1.projectAnywhere(p1, &px) && cam1.isInImage(px)) ? toCv(px) : t.left;
     }
@@ -494,7 +507,8 @@ void FeatureTracker::matchStereo(const std::vector<cv::Mat>& left_pyr,
   // already confirmed by the previous frame's check and this frame's temporal tracks.
   std::vector<int> verify;
   std::vector<bool> confirmed(n, false);
-  const double tol2 = options_.stereo_prediction_tolerance_px * options_.stereo_prediction_tolerance_px;
+  const double tol2 =
+      options_.stereo_prediction_tolerance_px * options_.stereo_prediction_tolerance_px;
   for (std::size_t i = 0; i < n; ++i) {
     if (!st_fwd[i]) continue;
     const cv::Point2f d = rpts[i] - predicted[i];
@@ -513,8 +527,8 @@ void FeatureTracker::matchStereo(const std::vector<cv::Mat>& left_pyr,
       vl.push_back(lpts[static_cast<std::size_t>(i)]);
     }
     std::vector<uchar> vst;
-    cv::calcOpticalFlowPyrLK(right_pyr, left_pyr, vr, vl, vst, err, win, options_.pyramid_levels, crit,
-                             cv::OPTFLOW_USE_INITIAL_FLOW);
+    cv::calcOpticalFlowPyrLK(right_pyr, left_pyr, vr, vl, vst, err, win, options_.pyramid_levels,
+                             crit, cv::OPTFLOW_USE_INITIAL_FLOW);
     for (std::size_t k = 0; k < verify.size(); ++k) {
       st_bwd[static_cast<std::size_t>(verify[k])] = vst[k];
       back[static_cast<std::size_t>(verify[k])] = vl[k];
@@ -545,7 +559,8 @@ void FeatureTracker::matchStereo(const std::vector<cv::Mat>& left_pyr,
     a.col(0) = R10 * x0;
     a.col(1) = -x1;
     const Eigen::Vector2d depth = (a.transpose() * a).ldlt().solve(-a.transpose() * t10);
-    if (!(depth[0] >= options_.min_depth_m && depth[0] <= options_.max_depth_m && depth[1] > 0)) continue;
+    if (!(depth[0] >= options_.min_depth_m && depth[0] <= options_.max_depth_m && depth[1] > 0))
+      continue;
     t.stereo = true;
     t.right = rpts[i];
     t.right_norm = rn;

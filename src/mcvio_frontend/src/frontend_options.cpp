@@ -1,10 +1,10 @@
 #include "mcvio/frontend/frontend_options.hpp"
 
+#include <yaml-cpp/yaml.h>
+
 #include <cmath>
 #include <functional>
 #include <map>
-
-#include <yaml-cpp/yaml.h>
 
 #include "mcvio/core/input_error.hpp"
 
@@ -30,7 +30,8 @@ void FrontendOptions::validate() const {
   require(max_features > 0, "max_features", "must be > 0");
   require(grid_cols > 0 && grid_cols <= 64, "grid_cols", "must be in [1, 64]");
   require(grid_rows > 0 && grid_rows <= 64, "grid_rows", "must be in [1, 64]");
-  require(std::isfinite(min_distance_px) && min_distance_px >= 1.0, "min_distance_px", "must be >= 1");
+  require(std::isfinite(min_distance_px) && min_distance_px >= 1.0, "min_distance_px",
+          "must be >= 1");
   require(fast_threshold > 0 && fast_threshold < 255, "fast_threshold", "must be in [1, 254]");
   require(fast_min_threshold > 0 && fast_min_threshold <= fast_threshold, "fast_min_threshold",
           "must be in [1, fast_threshold]");
@@ -43,7 +44,8 @@ void FrontendOptions::validate() const {
   require(fb_threshold_px > 0 && std::isfinite(fb_threshold_px), "fb_threshold_px", "must be > 0");
   require(exposure_normalization == "none" || exposure_normalization == "global" ||
               exposure_normalization == "local",
-          "exposure_normalization", "must be none, global or local, got '" + exposure_normalization + "'");
+          "exposure_normalization",
+          "must be none, global or local, got '" + exposure_normalization + "'");
   require(normalization_block_px >= 8 && normalization_block_px <= 256, "normalization_block_px",
           "must be in [8, 256]");
   require(max_imu_gap_ns > 0, "max_imu_gap_ns", "must be > 0");

@@ -1,9 +1,8 @@
 #include "mcvio/frontend/gyro_integrator.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <vector>
-
-#include <Eigen/Geometry>
 
 namespace mcvio::frontend {
 
@@ -55,9 +54,9 @@ bool GyroIntegrator::rotation(Timestamp t0, Timestamp t1, const Eigen::Vector3d&
     const Eigen::Vector3d w = rateAt(knots[i] + (knots[i + 1] - knots[i]) / 2) - gyro_bias;
     const Eigen::Vector3d phi = w * dt;
     const double angle = phi.norm();
-    const Eigen::Quaterniond dq =
-        angle < 1e-12 ? Eigen::Quaterniond::Identity()
-                      : Eigen::Quaterniond(Eigen::AngleAxisd(angle, phi / angle));
+    const Eigen::Quaterniond dq = angle < 1e-12
+                                      ? Eigen::Quaterniond::Identity()
+                                      : Eigen::Quaterniond(Eigen::AngleAxisd(angle, phi / angle));
     q = q * dq;
   }
   q.normalize();

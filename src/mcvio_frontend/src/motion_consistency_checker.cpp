@@ -1,11 +1,10 @@
 #include "mcvio/frontend/motion_consistency_checker.hpp"
 
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
-
-#include <Eigen/Cholesky>
-#include <Eigen/Geometry>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
@@ -26,8 +25,8 @@ Eigen::Matrix3d expSO3(const Eigen::Vector3d& phi) {
   return Eigen::AngleAxisd(a, phi / a).toRotationMatrix();
 }
 
-double reprojectionError(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const Eigen::Vector3d& X,
-                         const Eigen::Vector2d& c) {
+double reprojectionError(const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+                         const Eigen::Vector3d& X, const Eigen::Vector2d& c) {
   const Eigen::Vector3d y = R * X + t;
   if (y.z() < 1e-6) return kInf;
   return (y.head<2>() / y.z() - c).norm();
@@ -71,7 +70,8 @@ bool solveTranslation(const Eigen::Matrix3d& R,
 
 // Gauss-Newton on the reprojection error of the listed pairs, R and t updated in place.
 void refinePose(const std::vector<MotionConsistencyChecker::Correspondence>& tracks,
-                const std::vector<int>& idx, int iterations, Eigen::Matrix3d* R, Eigen::Vector3d* t) {
+                const std::vector<int>& idx, int iterations, Eigen::Matrix3d* R,
+                Eigen::Vector3d* t) {
   for (int it = 0; it < iterations; ++it) {
     Eigen::Matrix<double, 6, 6> h = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
@@ -103,8 +103,11 @@ void refinePose(const std::vector<MotionConsistencyChecker::Correspondence>& tra
 
 MotionConsistencyChecker::MotionConsistencyChecker(double threshold_px, double focal_px,
                                                    int iterations, int min_tracks, unsigned seed)
-    : threshold_(threshold_px / focal_px), focal_px_(focal_px), iterations_(iterations),
-      min_tracks_(min_tracks), rng_(seed) {}
+    : threshold_(threshold_px / focal_px),
+      focal_px_(focal_px),
+      iterations_(iterations),
+      min_tracks_(min_tracks),
+      rng_(seed) {}
 
 MotionConsistencyChecker::Result MotionConsistencyChecker::check(
     const std::vector<Correspondence>& tracks, const Eigen::Matrix3d* prior) {
@@ -116,21 +119,25 @@ MotionConsistencyChecker::Result MotionConsistencyChecker::check(
   }
   std::vector<int> with_point;
   for (std::size_t i = 0; i < tracks.size(); ++i) {
-    if (tracks[i].has_point && tracks[i].point_prev.allFinite()) with_point.push_back(static_cast<int>(i));
+    if (tracks[i].has_point && tracks[i].point_prev.allFinite())
+      with_point.push_back(static_cast<int>(i));
   }
-  if (static_cast<int>(with_point.size()) >= min_tracks_) return checkMetric(tracks, with_point, prior);
+  if (static_cast<int>(with_point.size()) >= min_tracks_)
+    return checkMetric(tracks, with_point, prior);
   return checkEpipolar(tracks, prior);
 }
 
-void MotionConsistencyChecker::labelAll(const std::vector<Correspondence>& tracks, Result* r) const {
+void MotionConsistencyChecker::labelAll(const std::vector<Correspondence>& tracks,
+                                        Result* r) const {
   r->labels.resize(tracks.size());
   r->residual_px.resize(tracks.size());
   r->inliers = 0;
   for (std::size_t i = 0; i < tracks.size(); ++i) {
     const auto& tr = tracks[i];
-    const double e = (r->metric && tr.has_point)
-                         ? reprojectionError(r->R_cur_prev, r->t_cur_prev, tr.point_prev, tr.cur_normalized)
-                         : epipolarError(r->R_cur_prev, r->t_cur_prev, tr.prev_normalized, tr.cur_normalized);
+    const double e =
+        (r->metric && tr.has_point)
+            ? reprojectionError(r->R_cur_prev, r->t_cur_prev, tr.point_prev, tr.cur_normalized)
+            : epipolarError(r->R_cur_prev, r->t_cur_prev, tr.prev_normalized, tr.cur_normalized);
     r->residual_px[i] = e * focal_px_;
     const bool ok = e < threshold_;
     r->labels[i] = ok ? TrackLabel::kConsistent : TrackLabel::kInconsistent;
@@ -191,7 +198,8 @@ MotionConsistencyChecker::Result MotionConsistencyChecker::checkMetric(
     std::vector<int> inliers;
     for (int i : with_point) {
       const auto& tr = tracks[static_cast<std::size_t>(i)];
-      if (reprojectionError(r.R_cur_prev, r.t_cur_prev, tr.point_prev, tr.cur_normalized) < threshold_) {
+      if (reprojectionError(r.R_cur_prev, r.t_cur_prev, tr.point_prev, tr.cur_normalized) <
+          threshold_) {
         inliers.push_back(i);
       }
     }
@@ -231,8 +239,10 @@ MotionConsistencyChecker::Result MotionConsistencyChecker::checkEpipolar(
       while (b == a) b = pick(rng_);
       const auto& ta = tracks[static_cast<std::size_t>(a)];
       const auto& tb = tracks[static_cast<std::size_t>(b)];
-      const Eigen::Vector3d na = (*prior * ta.prev_normalized.homogeneous()).cross(ta.cur_normalized.homogeneous());
-      const Eigen::Vector3d nb = (*prior * tb.prev_normalized.homogeneous()).cross(tb.cur_normalized.homogeneous());
+      const Eigen::Vector3d na =
+          (*prior * ta.prev_normalized.homogeneous()).cross(ta.cur_normalized.homogeneous());
+      const Eigen::Vector3d nb =
+          (*prior * tb.prev_normalized.homogeneous()).cross(tb.cur_normalized.homogeneous());
       Eigen::Vector3d t = na.cross(nb);
       if (t.norm() < 1e-12) continue;
       t.normalize();
@@ -254,8 +264,8 @@ MotionConsistencyChecker::Result MotionConsistencyChecker::checkEpipolar(
     p1.emplace_back(tr.cur_normalized.x(), tr.cur_normalized.y());
   }
   cv::Mat mask;
-  cv::Mat e = cv::findEssentialMat(p0, p1, cv::Mat::eye(3, 3, CV_64F), cv::RANSAC, 0.999,
-                                   threshold_, mask);
+  cv::Mat e =
+      cv::findEssentialMat(p0, p1, cv::Mat::eye(3, 3, CV_64F), cv::RANSAC, 0.999, threshold_, mask);
   // Several solutions come stacked; the first is the one with most inliers.
   if (e.rows > 3 && e.cols == 3) e = e.rowRange(0, 3).clone();
   if (e.rows != 3 || e.cols != 3) {

@@ -13,7 +13,8 @@ cv::Mat drawTracks(const cv::Mat& image, const std::vector<TrackHistory>& tracks
   } else if (image.type() == CV_8UC3) {
     rgb = image.clone();
   } else {
-    throw InputError("drawTracks: image must be mono8 or rgb8, got " + cv::typeToString(image.type()));
+    throw InputError("drawTracks: image must be mono8 or rgb8, got " +
+                     cv::typeToString(image.type()));
   }
   for (const TrackHistory& t : tracks) {
     // Colours are in RGB order because the output is rgb8.

@@ -1,8 +1,7 @@
 #pragma once
+#include <Eigen/Geometry>
 #include <optional>
 #include <string>
-
-#include <Eigen/Geometry>
 
 #include "mcvio/dataset/euroc_dataset.hpp"
 #include "mcvio/frontend/stereo_input.hpp"

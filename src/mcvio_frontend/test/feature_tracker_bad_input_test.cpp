@@ -1,10 +1,10 @@
 // Bad frames are skipped with a clear status and message; the tracker keeps its tracks.
+#include <gtest/gtest.h>
+
 #include <limits>
+#include <opencv2/core.hpp>
 #include <set>
 #include <vector>
-
-#include <gtest/gtest.h>
-#include <opencv2/core.hpp>
 
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/frontend/feature_tracker.hpp"
@@ -120,7 +120,8 @@ TEST_F(FeatureTrackerBadInputTest, NonFiniteImuSamplesAreIgnored) {
   in.imu.front().gyro.x() = std::numeric_limits<double>::quiet_NaN();
   const TrackingResult r = tracker_.track(in);
   ASSERT_TRUE(r.ok()) << r.message;
-  for (const auto& o : r.features.features) ASSERT_TRUE(o.pixel.allFinite() && o.normalized.allFinite());
+  for (const auto& o : r.features.features)
+    ASSERT_TRUE(o.pixel.allFinite() && o.normalized.allFinite());
 }
 
 TEST_F(FeatureTrackerBadInputTest, UnusableCalibrationThrows) {

@@ -1,15 +1,15 @@
 // The frontend on real EuRoC V1_01 images (skipped when $MCVIO_SHARED_DIR is absent).
+#include <gtest/gtest.h>
+
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <opencv2/core.hpp>
 #include <set>
 #include <vector>
-
-#include <Eigen/SVD>
-#include <gtest/gtest.h>
-#include <opencv2/core.hpp>
 
 #include "euroc_excerpt.hpp"
 #include "mcvio/frontend/feature_tracker.hpp"
@@ -76,7 +76,8 @@ TEST_F(FeatureTrackerEurocTest, AtLeast120StereoMatchesEveryFrame) {
     EXPECT_GE(r.stats.stereo_matched, 120) << "frame " << r.features.frame_index;
     min_stereo = std::min(min_stereo, r.stats.stereo_matched);
   }
-  std::printf("EuRoC: min stereo matches per frame %d over %zu frames\n", min_stereo, run.results.size());
+  std::printf("EuRoC: min stereo matches per frame %d over %zu frames\n", min_stereo,
+              run.results.size());
 }
 
 TEST_F(FeatureTrackerEurocTest, TrackIdsStableOverStaticSequence) {
@@ -132,12 +133,13 @@ TEST_F(FeatureTrackerEurocTest, TrackIdsStableOverStaticSequence) {
   std::sort(displacement.begin(), displacement.end());
   std::sort(residual.begin(), residual.end());
   const double angle_deg = Eigen::AngleAxisd(R).angle() * 180.0 / M_PI;
-  std::printf("EuRoC static: %zu/%zu first-frame tracks survive %zu frames; they moved %.3f px (median) "
-              "as a rotation of %.3f deg, residual median %.3f / 90%% %.3f px; %zu distinct ids; "
-              "consistent labels %d/%d\n",
-              bearings.size(), first.size(), run.results.size(), displacement[displacement.size() / 2],
-              angle_deg, residual[residual.size() / 2], residual[residual.size() * 9 / 10], all_ids.size(),
-              consistent, labelled);
+  std::printf(
+      "EuRoC static: %zu/%zu first-frame tracks survive %zu frames; they moved %.3f px (median) "
+      "as a rotation of %.3f deg, residual median %.3f / 90%% %.3f px; %zu distinct ids; "
+      "consistent labels %d/%d\n",
+      bearings.size(), first.size(), run.results.size(), displacement[displacement.size() / 2],
+      angle_deg, residual[residual.size() / 2], residual[residual.size() * 9 / 10], all_ids.size(),
+      consistent, labelled);
   EXPECT_GE(bearings.size(), 0.8 * static_cast<double>(first.size()));
   EXPECT_LE(residual[residual.size() / 2], 0.3);
   EXPECT_LE(residual[residual.size() * 9 / 10], 1.0);
@@ -168,7 +170,8 @@ TEST_F(FeatureTrackerEurocTest, StereoDisparitiesConsistentWithCalibration) {
       ASSERT_TRUE(calib.cam0.model.unproject(left.at(o.track_id), &x0));
       ASSERT_TRUE(calib.cam1.model.unproject(o.pixel, &x1));
       const Eigen::Vector3d line = E * x0.homogeneous();
-      epi.push_back(std::abs(x1.homogeneous().dot(line)) / line.head<2>().norm() * calib.cam1.model.fu());
+      epi.push_back(std::abs(x1.homogeneous().dot(line)) / line.head<2>().norm() *
+                    calib.cam1.model.fu());
       Eigen::Matrix<double, 3, 2> a;
       a.col(0) = T10.linear() * x0.homogeneous();
       a.col(1) = -x1.homogeneous();
@@ -192,10 +195,12 @@ TEST_F(FeatureTrackerEurocTest, StereoDisparitiesConsistentWithCalibration) {
   }
   std::sort(depths.begin(), depths.end());
   std::sort(rel_spread.begin(), rel_spread.end());
-  std::printf("EuRoC stereo: median epipolar distance %.3f px (max %.3f), depth 10/50/90%% %.2f/%.2f/%.2f m, "
-              "median per-track depth spread %.2f%% over %zu tracks\n",
-              median_epi, epi.back(), depths[depths.size() / 10], depths[depths.size() / 2],
-              depths[depths.size() * 9 / 10], 100 * rel_spread[rel_spread.size() / 2], rel_spread.size());
+  std::printf(
+      "EuRoC stereo: median epipolar distance %.3f px (max %.3f), depth 10/50/90%% %.2f/%.2f/%.2f "
+      "m, "
+      "median per-track depth spread %.2f%% over %zu tracks\n",
+      median_epi, epi.back(), depths[depths.size() / 10], depths[depths.size() / 2],
+      depths[depths.size() * 9 / 10], 100 * rel_spread[rel_spread.size() / 2], rel_spread.size());
   EXPECT_LE(median_epi, 0.5);
   // The frontend measures with the mean focal length, this test with fu: allow that difference.
   EXPECT_LE(epi.back(), 1.01 * FrontendOptions().stereo_epipolar_threshold_px);
@@ -218,8 +223,8 @@ TEST_F(FeatureTrackerEurocTest, GainChangesDoNotBreakTracks) {
   const auto last = leftPixels(run.results.back().features);
   int survived = 0;
   for (const auto& kv : first) survived += last.count(kv.first) ? 1 : 0;
-  std::printf("EuRoC with gain steps: min stereo %d, %d/%zu first-frame tracks survive\n", min_stereo,
-              survived, first.size());
+  std::printf("EuRoC with gain steps: min stereo %d, %d/%zu first-frame tracks survive\n",
+              min_stereo, survived, first.size());
   EXPECT_GE(min_stereo, 120);
   EXPECT_GE(survived, 0.7 * static_cast<double>(first.size()));
 }

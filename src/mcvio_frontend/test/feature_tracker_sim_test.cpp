@@ -1,10 +1,10 @@
 // The frontend on the team simulator's rendering (mcvio_sim): a pedestrian walks across a
 // textured office in front of a moving stereo rig. The per-pixel body ids of the rendering say
 // which features sit on the pedestrian; those must be labelled inconsistent.
+#include <gtest/gtest.h>
+
 #include <cstdio>
 #include <map>
-
-#include <gtest/gtest.h>
 
 #include "mcvio/frontend/feature_tracker.hpp"
 #include "mcvio/sim/simulator.hpp"
@@ -44,10 +44,12 @@ TEST(FeatureTrackerSim, PedestrianFeaturesAreInconsistentStaticOnesConsistent) {
     conflict_frames += render.label.in_conflict ? 1 : 0;
     for (const auto& f : r.features.features) {
       if (f.camera_index != 0 || f.label == TrackLabel::kUnknown) continue;
-      const int u = static_cast<int>(std::lround(f.pixel.x())), v = static_cast<int>(std::lround(f.pixel.y()));
+      const int u = static_cast<int>(std::lround(f.pixel.x())),
+                v = static_cast<int>(std::lround(f.pixel.y()));
       // Judge only features well inside one body: the 5x5 neighbourhood has a single id.
       const cv::Rect box(u - 2, v - 2, 5, 5);
-      if ((box & cv::Rect(0, 0, render.cam0_body_ids.cols, render.cam0_body_ids.rows)) != box) continue;
+      if ((box & cv::Rect(0, 0, render.cam0_body_ids.cols, render.cam0_body_ids.rows)) != box)
+        continue;
       const cv::Mat ids = render.cam0_body_ids(box);
       const int id = ids.at<uchar>(2, 2);
       if (cv::countNonZero(ids != id) > 0) continue;
@@ -62,10 +64,11 @@ TEST(FeatureTrackerSim, PedestrianFeaturesAreInconsistentStaticOnesConsistent) {
       }
     }
   }
-  std::printf("sim pedestrian: %d conflict frames; pedestrian labels inconsistent %d/%d, static consistent "
-              "%d/%d, min stereo %d\n",
-              conflict_frames, moving_inconsistent, moving_labelled, static_consistent, static_labelled,
-              min_stereo);
+  std::printf(
+      "sim pedestrian: %d conflict frames; pedestrian labels inconsistent %d/%d, static consistent "
+      "%d/%d, min stereo %d\n",
+      conflict_frames, moving_inconsistent, moving_labelled, static_consistent, static_labelled,
+      min_stereo);
   ASSERT_GT(conflict_frames, 0);
   ASSERT_GE(moving_labelled, 20);
   EXPECT_GE(moving_inconsistent, 0.7 * moving_labelled);

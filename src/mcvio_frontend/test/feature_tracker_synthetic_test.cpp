@@ -1,11 +1,11 @@
 // Frontend accuracy against exact ground truth from the ray-cast synthetic stereo scene.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <map>
 #include <memory>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "mcvio/frontend/feature_tracker.hpp"
 #include "synthetic_stereo_scene.hpp"
@@ -18,9 +18,9 @@ using testing::SyntheticStereoScene;
 constexpr int kFrames = 60;
 
 struct RunSummary {
-  std::vector<double> left_errors;      // tracked vs true pixel, observations after the first
+  std::vector<double> left_errors;  // tracked vs true pixel, observations after the first
   int stereo_total = 0;
-  int stereo_wrong = 0;                 // right pixel > 1 px from the true projection
+  int stereo_wrong = 0;  // right pixel > 1 px from the true projection
   std::map<std::uint64_t, int> track_length;
   // Per frame labels of tracks whose first observation landed on the moving patch / background.
   int patch_labelled = 0, patch_inconsistent = 0;
@@ -72,7 +72,8 @@ RunSummary run(const SyntheticStereoScene& scene, const std::vector<StereoInput>
         if (o.label == TrackLabel::kUnknown) continue;
         if (it->second.surface == 3) {
           // Inner patch points only: the border mixes patch and background texture.
-          if (std::abs(it->second.point.x()) > 0.28 || std::abs(it->second.point.y()) > 0.28) continue;
+          if (std::abs(it->second.point.x()) > 0.28 || std::abs(it->second.point.y()) > 0.28)
+            continue;
           ++s.patch_labelled;
           auto& pt = s.patch_tracks[o.track_id];
           ++pt.first;
@@ -114,10 +115,11 @@ TEST(FeatureTrackerSynthetic, CleanSceneMeetsAccuracyTargets) {
   const RunSummary s = run(scene, renders(scene, 0), FrontendOptions(), true);
   const double med = median(s.left_errors);
   const double wrong = static_cast<double>(s.stereo_wrong) / std::max(1, s.stereo_total);
-  std::printf("clean: median reprojection error %.3f px over %zu obs, wrong stereo %d/%d (%.2f%%), "
-              "mean track length %.1f frames over %zu tracks, min stereo per frame %d\n",
-              med, s.left_errors.size(), s.stereo_wrong, s.stereo_total, 100 * wrong,
-              meanTrackLength(s), s.track_length.size(), s.min_stereo);
+  std::printf(
+      "clean: median reprojection error %.3f px over %zu obs, wrong stereo %d/%d (%.2f%%), "
+      "mean track length %.1f frames over %zu tracks, min stereo per frame %d\n",
+      med, s.left_errors.size(), s.stereo_wrong, s.stereo_total, 100 * wrong, meanTrackLength(s),
+      s.track_length.size(), s.min_stereo);
   EXPECT_LE(med, 0.3);
   EXPECT_LE(wrong, 0.01);
   EXPECT_GE(meanTrackLength(s), 15.0);
@@ -132,8 +134,8 @@ TEST(FeatureTrackerSynthetic, PerFrameGainChangesDoNotBreakTracks) {
   SyntheticStereoScene scene(config);
   const RunSummary s = run(scene, renders(scene, 1), FrontendOptions(), true);
   const double med = median(s.left_errors);
-  std::printf("gain changes: median error %.3f px, mean track length %.1f, wrong stereo %d/%d\n", med,
-              meanTrackLength(s), s.stereo_wrong, s.stereo_total);
+  std::printf("gain changes: median error %.3f px, mean track length %.1f, wrong stereo %d/%d\n",
+              med, meanTrackLength(s), s.stereo_wrong, s.stereo_total);
   EXPECT_LE(med, 0.3);
   EXPECT_GE(meanTrackLength(s), 15.0);
   EXPECT_LE(s.stereo_wrong, 0.01 * s.stereo_total);
@@ -146,10 +148,11 @@ void expectPatchInconsistent(const RunSummary& s, const char* what) {
     ++judged_tracks;
     if (kv.second.second * 2 > kv.second.first) ++tracks_mostly_inconsistent;
   }
-  std::printf("%s: patch labels inconsistent %d/%d, patch tracks mostly inconsistent %d/%d, "
-              "background consistent %d/%d\n",
-              what, s.patch_inconsistent, s.patch_labelled, tracks_mostly_inconsistent, judged_tracks,
-              s.background_consistent, s.background_labelled);
+  std::printf(
+      "%s: patch labels inconsistent %d/%d, patch tracks mostly inconsistent %d/%d, "
+      "background consistent %d/%d\n",
+      what, s.patch_inconsistent, s.patch_labelled, tracks_mostly_inconsistent, judged_tracks,
+      s.background_consistent, s.background_labelled);
   ASSERT_GE(judged_tracks, 5);
   EXPECT_GE(s.patch_inconsistent, 0.8 * s.patch_labelled);
   EXPECT_GE(tracks_mostly_inconsistent, 0.9 * judged_tracks);

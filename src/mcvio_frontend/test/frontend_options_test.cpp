@@ -1,10 +1,11 @@
-#include <fstream>
+#include "mcvio/frontend/frontend_options.hpp"
 
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <fstream>
+
 #include "mcvio/core/input_error.hpp"
-#include "mcvio/frontend/frontend_options.hpp"
 
 namespace mcvio::frontend {
 namespace {
@@ -21,8 +22,8 @@ std::string errorOf(const std::string& yaml) {
 TEST(FrontendOptions, DefaultsAreValid) { EXPECT_NO_THROW(FrontendOptions().validate()); }
 
 TEST(FrontendOptions, YamlOverridesDefaults) {
-  const FrontendOptions o = FrontendOptions::fromYaml(
-      YAML::Load("max_features: 150\nwindow_size: 15\nexposure_normalization: local\nfb_threshold_px: 0.8"));
+  const FrontendOptions o = FrontendOptions::fromYaml(YAML::Load(
+      "max_features: 150\nwindow_size: 15\nexposure_normalization: local\nfb_threshold_px: 0.8"));
   EXPECT_EQ(o.max_features, 150);
   EXPECT_EQ(o.window_size, 15);
   EXPECT_EQ(o.exposure_normalization, "local");
@@ -37,7 +38,8 @@ TEST(FrontendOptions, ErrorsNameTheKey) {
   EXPECT_NE(errorOf("pyramid_levels: many").find("pyramid_levels"), std::string::npos);
   EXPECT_NE(errorOf("min_depth_m: 5\nmax_depth_m: 1").find("max_depth_m"), std::string::npos);
   EXPECT_NE(errorOf("max_features: -3").find("test.yaml"), std::string::npos);
-  EXPECT_NE(errorOf("exposure_normalization: auto").find("exposure_normalization"), std::string::npos);
+  EXPECT_NE(errorOf("exposure_normalization: auto").find("exposure_normalization"),
+            std::string::npos);
   EXPECT_EQ(errorOf("max_features: 100"), "");
 }
 

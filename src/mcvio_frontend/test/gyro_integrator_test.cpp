@@ -1,10 +1,10 @@
-#include <cmath>
-#include <limits>
+#include "mcvio/frontend/gyro_integrator.hpp"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include "mcvio/frontend/gyro_integrator.hpp"
+#include <Eigen/Geometry>
+#include <cmath>
+#include <limits>
 
 namespace mcvio::frontend {
 namespace {
@@ -12,11 +12,13 @@ namespace {
 TEST(GyroIntegrator, ConstantRateGivesExactAngle) {
   GyroIntegrator g(30'000'000);
   const Eigen::Vector3d w(0.3, -0.2, 0.5);
-  for (Timestamp t = 0; t <= 200'000'000; t += 5'000'000) ASSERT_TRUE(g.add({t, w, Eigen::Vector3d::Zero()}));
+  for (Timestamp t = 0; t <= 200'000'000; t += 5'000'000)
+    ASSERT_TRUE(g.add({t, w, Eigen::Vector3d::Zero()}));
   Eigen::Matrix3d R;
   // Interval ends between samples exercise the interpolation at the boundaries.
   ASSERT_TRUE(g.rotation(12'500'000, 112'500'000, Eigen::Vector3d::Zero(), &R));
-  const Eigen::Matrix3d expected = Eigen::AngleAxisd(w.norm() * 0.1, w.normalized()).toRotationMatrix();
+  const Eigen::Matrix3d expected =
+      Eigen::AngleAxisd(w.norm() * 0.1, w.normalized()).toRotationMatrix();
   EXPECT_LT((R - expected).norm(), 1e-9);
   ASSERT_TRUE(g.rotation(12'500'000, 112'500'000, w, &R));
   EXPECT_LT((R - Eigen::Matrix3d::Identity()).norm(), 1e-12);
@@ -29,12 +31,14 @@ TEST(GyroIntegrator, RefusesGapsAndBadSamples) {
   ASSERT_TRUE(g.add({5'000'000, w, {}}));
   EXPECT_FALSE(g.add({5'000'000, w, {}}));  // repeated time
   EXPECT_FALSE(g.add({1'000'000, w, {}}));  // backwards
-  EXPECT_FALSE(g.add({6'000'000, Eigen::Vector3d(std::numeric_limits<double>::quiet_NaN(), 0, 0), {}}));
+  EXPECT_FALSE(
+      g.add({6'000'000, Eigen::Vector3d(std::numeric_limits<double>::quiet_NaN(), 0, 0), {}}));
   ASSERT_TRUE(g.add({100'000'000, w, {}}));  // 95 ms hole
   Eigen::Matrix3d R;
   EXPECT_FALSE(g.rotation(0, 100'000'000, Eigen::Vector3d::Zero(), &R));
   EXPECT_TRUE(g.rotation(0, 5'000'000, Eigen::Vector3d::Zero(), &R));
-  EXPECT_FALSE(g.rotation(100'000'000, 200'000'000, Eigen::Vector3d::Zero(), &R));  // beyond the data
+  EXPECT_FALSE(
+      g.rotation(100'000'000, 200'000'000, Eigen::Vector3d::Zero(), &R));  // beyond the data
 }
 
 TEST(GyroIntegrator, DropBeforeKeepsTheLeftNeighbour) {

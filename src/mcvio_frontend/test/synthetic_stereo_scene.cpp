@@ -1,9 +1,8 @@
 #include "synthetic_stereo_scene.hpp"
 
 #include <cmath>
-#include <random>
-
 #include <opencv2/imgproc.hpp>
+#include <random>
 
 namespace mcvio::frontend::testing {
 namespace {
@@ -42,7 +41,8 @@ SyntheticStereoScene::SyntheticStereoScene(const Config& config) : config_(confi
   calibration_.cam0.T_BC.linear() = rotationBC0();
   calibration_.cam0.T_BC.translation() = Eigen::Vector3d(-0.0216, -0.0647, 0.0098);
   Eigen::Isometry3d T_C0C1 = Eigen::Isometry3d::Identity();
-  T_C0C1.linear() = Eigen::AngleAxisd(0.004, Eigen::Vector3d(0.3, 1.0, 0.2).normalized()).toRotationMatrix();
+  T_C0C1.linear() =
+      Eigen::AngleAxisd(0.004, Eigen::Vector3d(0.3, 1.0, 0.2).normalized()).toRotationMatrix();
   T_C0C1.translation() = Eigen::Vector3d(0.110, -0.0004, 0.0009);
   calibration_.cam1.T_BC = calibration_.cam0.T_BC * T_C0C1;
 
@@ -105,7 +105,8 @@ Eigen::Vector3d SyntheticStereoScene::patchCenter(double t) const {
   return {-0.1, 0.5 - config_.patch_speed_mps * t, kPatchZ};
 }
 
-bool SyntheticStereoScene::castRay(int k, int cam, const Eigen::Vector2d& pixel, SurfacePoint* hit) const {
+bool SyntheticStereoScene::castRay(int k, int cam, const Eigen::Vector2d& pixel,
+                                   SurfacePoint* hit) const {
   Eigen::Vector2d n;
   if (!calibration_.camera(cam).model.unproject(pixel, &n)) return false;
   const Eigen::Isometry3d T = T_WC(k, cam);
@@ -135,7 +136,8 @@ bool SyntheticStereoScene::castRay(int k, int cam, const Eigen::Vector2d& pixel,
   return best < 1e9;
 }
 
-bool SyntheticStereoScene::project(const SurfacePoint& p, int k, int cam, Eigen::Vector2d* pixel) const {
+bool SyntheticStereoScene::project(const SurfacePoint& p, int k, int cam,
+                                   Eigen::Vector2d* pixel) const {
   Eigen::Vector3d world = p.point;
   if (p.surface == 3) world += patchCenter(static_cast<double>(k) / kFrameRateHz);
   const Eigen::Vector3d pc = T_WC(k, cam).inverse() * world;
@@ -146,10 +148,22 @@ double SyntheticStereoScene::shade(int surface, const Eigen::Vector3d& p) const 
   // Texture coordinates: the two in-plane world axes (patch: its own x, y), offset per surface.
   double a = 0, b = 0;
   switch (surface) {
-    case 0: a = p.x(); b = p.y(); break;
-    case 1: a = p.y() + 3.1; b = p.z() + 1.7; break;
-    case 2: a = p.x() + 5.3; b = p.z() + 0.9; break;
-    default: a = p.x() + 2.2; b = p.y() + 7.7; break;
+    case 0:
+      a = p.x();
+      b = p.y();
+      break;
+    case 1:
+      a = p.y() + 3.1;
+      b = p.z() + 1.7;
+      break;
+    case 2:
+      a = p.x() + 5.3;
+      b = p.z() + 0.9;
+      break;
+    default:
+      a = p.x() + 2.2;
+      b = p.y() + 7.7;
+      break;
   }
   double u = a / kTexel, v = b / kTexel;
   u -= std::floor(u / kTile) * kTile;
@@ -168,7 +182,8 @@ cv::Mat SyntheticStereoScene::renderImage(int k, int cam) const {
   const Eigen::Matrix3d R = T.linear();
   const Eigen::Vector3d o = T.translation();
   const Eigen::Vector3d patch = patchCenter(static_cast<double>(k) / kFrameRateHz);
-  std::mt19937 rng(config_.seed * 7919u + static_cast<unsigned>(k) * 2u + static_cast<unsigned>(cam));
+  std::mt19937 rng(config_.seed * 7919u + static_cast<unsigned>(k) * 2u +
+                   static_cast<unsigned>(cam));
   std::normal_distribution<double> noise(0.0, config_.noise_sigma);
   std::uniform_real_distribution<double> gain_dist(0.6, 1.4);
   const double gain = config_.random_gain ? gain_dist(rng) : 1.0;

@@ -1,9 +1,8 @@
 #pragma once
-#include <array>
-#include <vector>
-
 #include <Eigen/Geometry>
+#include <array>
 #include <opencv2/core/mat.hpp>
+#include <vector>
 
 #include "mcvio/core/stereo_rig_calibration.hpp"
 #include "mcvio/frontend/stereo_input.hpp"
@@ -18,11 +17,11 @@ class SyntheticStereoScene {
  public:
   struct Config {
     bool moving_patch = false;
-    double patch_speed_mps = 0.4;       ///< patch velocity along world -y [m/s]
-    double camera_speed_mps = 0.2;      ///< body drift along world +y [m/s]
+    double patch_speed_mps = 0.4;   ///< patch velocity along world -y [m/s]
+    double camera_speed_mps = 0.2;  ///< body drift along world +y [m/s]
     double rotation_amplitude_rad = 0.05;
-    double noise_sigma = 1.0;           ///< image noise [grey levels]
-    bool random_gain = false;           ///< independent gain in [0.6, 1.4] per frame and camera
+    double noise_sigma = 1.0;  ///< image noise [grey levels]
+    bool random_gain = false;  ///< independent gain in [0.6, 1.4] per frame and camera
     unsigned seed = 7;
   };
 
@@ -53,8 +52,8 @@ class SyntheticStereoScene {
 
   Config config_;
   StereoRigCalibration calibration_;
-  cv::Mat texture_;                         // CV_32F tile
-  std::array<cv::Mat, 2> rays_;             // CV_64FC3 undistorted rays per pixel
+  cv::Mat texture_;              // CV_32F tile
+  std::array<cv::Mat, 2> rays_;  // CV_64FC3 undistorted rays per pixel
 };
 
 }  // namespace mcvio::frontend::testing

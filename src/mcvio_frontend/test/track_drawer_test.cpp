@@ -1,7 +1,8 @@
+#include "mcvio/frontend/track_drawer.hpp"
+
 #include <gtest/gtest.h>
 
 #include "mcvio/core/input_error.hpp"
-#include "mcvio/frontend/track_drawer.hpp"
 
 namespace mcvio::frontend {
 namespace {

@@ -1,12 +1,11 @@
 #pragma once
+#include <Eigen/Core>
 #include <cstdint>
 #include <deque>
 #include <memory>
+#include <opencv2/core/mat.hpp>
 #include <optional>
 #include <vector>
-
-#include <Eigen/Core>
-#include <opencv2/core/mat.hpp>
 
 #include "mcvio/core/stereo_rig_calibration.hpp"
 #include "mcvio/frontend/frontend_options.hpp"

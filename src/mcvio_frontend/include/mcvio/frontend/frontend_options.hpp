@@ -11,46 +11,47 @@ namespace mcvio::frontend {
 /// YAML keys are the member names; unknown keys are rejected so typos do not pass silently.
 struct FrontendOptions {
   // Detection
-  int max_features = 200;          ///< tracks kept per frame (left camera)
-  int grid_cols = 8;               ///< detection grid columns: each cell gets a share of max_features
-  int grid_rows = 6;               ///< detection grid rows
-  double min_distance_px = 15.0;   ///< minimum distance between any two tracks [px]
-  int fast_threshold = 20;         ///< FAST threshold tried first in a cell
-  int fast_min_threshold = 5;      ///< lowered down to this in low-texture cells
-  int border_px = 10;              ///< no detections and no tracks closer than this to the edge
-  bool subpixel_refinement = true; ///< cornerSubPix on new detections
+  int max_features = 200;  ///< tracks kept per frame (left camera)
+  int grid_cols = 8;       ///< detection grid columns: each cell gets a share of max_features
+  int grid_rows = 6;       ///< detection grid rows
+  double min_distance_px = 15.0;    ///< minimum distance between any two tracks [px]
+  int fast_threshold = 20;          ///< FAST threshold tried first in a cell
+  int fast_min_threshold = 5;       ///< lowered down to this in low-texture cells
+  int border_px = 10;               ///< no detections and no tracks closer than this to the edge
+  bool subpixel_refinement = true;  ///< cornerSubPix on new detections
 
   // KLT
-  int pyramid_levels = 3;          ///< highest pyramid level (0 = no pyramid)
-  int window_size = 13;            ///< KLT window side [px], odd (13: 5 ms/frame budget)
+  int pyramid_levels = 3;  ///< highest pyramid level (0 = no pyramid)
+  int window_size = 13;    ///< KLT window side [px], odd (13: 5 ms/frame budget)
   int klt_max_iterations = 15;
-  double klt_epsilon = 0.03;       ///< KLT stop when the update is below this [px]
-  double fb_threshold_px = 0.5;    ///< forward-backward error above this drops a temporal track
-  bool use_gyro_prediction = true; ///< initial flow from integrated gyro rotation
+  double klt_epsilon = 0.03;        ///< KLT stop when the update is below this [px]
+  double fb_threshold_px = 0.5;     ///< forward-backward error above this drops a temporal track
+  bool use_gyro_prediction = true;  ///< initial flow from integrated gyro rotation
   /// Photometric normalisation before KLT, so gain/exposure changes do not break tracks:
   /// "none"; "global" (whole-image mean/std); "local" (mean/std over blocks of
-  /// normalization_block_px, bilinearly blended: also copes with partial saturation and vignetting).
+  /// normalization_block_px, bilinearly blended: also copes with partial saturation and
+  /// vignetting).
   std::string exposure_normalization = "local";
   int normalization_block_px = 64;
   long long max_imu_gap_ns = 30'000'000;  ///< larger holes in the IMU stream disable prediction
 
   // Stereo
-  double stereo_fb_threshold_px = 1.0;         ///< left-right-left error limit
-  double stereo_epipolar_threshold_px = 2.0;   ///< distance to the epipolar line in cam1
+  double stereo_fb_threshold_px = 1.0;        ///< left-right-left error limit
+  double stereo_epipolar_threshold_px = 2.0;  ///< distance to the epipolar line in cam1
   /// A track matched last frame whose new right point lands this close to the disparity
   /// carried over skips the left-right-left check (0 = always check) [px].
   double stereo_prediction_tolerance_px = 0.5;
-  double min_depth_m = 0.1;                    ///< stereo points nearer than this are rejected
-  double max_depth_m = 200.0;                  ///< ... and farther than this
+  double min_depth_m = 0.1;    ///< stereo points nearer than this are rejected
+  double max_depth_m = 200.0;  ///< ... and farther than this
 
   // Geometric (motion) check
   double ransac_threshold_px = 1.5;  ///< reprojection / epipolar error for kConsistent
   int ransac_iterations = 100;
-  int min_tracks_for_check = 8;      ///< fewer temporal tracks: labels stay kUnknown
-  unsigned ransac_seed = 42;         ///< deterministic sampling
+  int min_tracks_for_check = 8;  ///< fewer temporal tracks: labels stay kUnknown
+  unsigned ransac_seed = 42;     ///< deterministic sampling
 
   // Visualisation
-  int history_length = 20;           ///< past positions kept per track for drawing
+  int history_length = 20;  ///< past positions kept per track for drawing
 
   /// Throws mcvio::InputError naming the first invalid key.
   void validate() const;

@@ -1,7 +1,6 @@
 #pragma once
-#include <deque>
-
 #include <Eigen/Core>
+#include <deque>
 
 #include "mcvio/core/imu_sample.hpp"
 #include "mcvio/core/time.hpp"

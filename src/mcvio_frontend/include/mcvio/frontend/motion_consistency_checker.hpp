@@ -1,8 +1,7 @@
 #pragma once
+#include <Eigen/Core>
 #include <random>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "mcvio/core/feature_frame.hpp"
 

@@ -1,7 +1,6 @@
 #pragma once
-#include <vector>
-
 #include <opencv2/core/mat.hpp>
+#include <vector>
 
 #include "mcvio/frontend/tracking_result.hpp"
 

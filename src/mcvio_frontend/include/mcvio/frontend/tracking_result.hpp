@@ -1,9 +1,8 @@
 #pragma once
 #include <cstdint>
+#include <opencv2/core/types.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core/types.hpp>
 
 #include "mcvio/core/feature_frame.hpp"
 
@@ -12,10 +11,10 @@ namespace mcvio::frontend {
 /// Why a frame was or was not processed.
 enum class FrameStatus : std::uint8_t {
   kOk = 0,
-  kNoCalibration,    ///< no stereo calibration set yet
-  kBadImage,         ///< empty, wrong encoding or wrong size
-  kMissingRight,     ///< the right image is absent
-  kOutOfOrder,       ///< timestamp not after the previous processed frame
+  kNoCalibration,  ///< no stereo calibration set yet
+  kBadImage,       ///< empty, wrong encoding or wrong size
+  kMissingRight,   ///< the right image is absent
+  kOutOfOrder,     ///< timestamp not after the previous processed frame
 };
 
 const char* toString(FrameStatus status);
@@ -30,17 +29,17 @@ struct TrackHistory {
 
 /// Counters of one processed frame.
 struct TrackingStats {
-  int tracked = 0;          ///< tracks carried over from the previous frame
-  int lost = 0;             ///< tracks dropped (KLT failure, forward-backward, out of image)
-  int detected = 0;         ///< new tracks
-  int stereo_matched = 0;   ///< tracks with a right observation
+  int tracked = 0;         ///< tracks carried over from the previous frame
+  int lost = 0;            ///< tracks dropped (KLT failure, forward-backward, out of image)
+  int detected = 0;        ///< new tracks
+  int stereo_matched = 0;  ///< tracks with a right observation
   int consistent = 0;
   int inconsistent = 0;
   bool gyro_prediction = false;  ///< initial flow came from the integrated gyro
   bool metric_check = false;     ///< the motion check used stereo points
   // CPU time of this thread per stage [ms]: what the frame cost, independent of machine load.
-  double cpu_ms_prepare = 0;     ///< normalisation and pyramids
-  double cpu_ms_temporal = 0;    ///< KLT between frames and the motion check
+  double cpu_ms_prepare = 0;   ///< normalisation and pyramids
+  double cpu_ms_temporal = 0;  ///< KLT between frames and the motion check
   double cpu_ms_detect = 0;
   double cpu_ms_stereo = 0;
   double cpu_ms_total = 0;
