@@ -1,8 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 
+#include "mcvio/core/input_error.hpp"
 #include "mcvio/sim/recorded_sequence_reader.hpp"
 #include "mcvio/sim/simulator.hpp"
 
@@ -80,6 +82,40 @@ TEST(SemiReal, AnElevatorRideIsAddedToTheRealImuAndGroundTruth) {
   const std::size_t mid = 20 * 35;
   EXPECT_TRUE(ride.renderFrame(mid).label.in_conflict);
   EXPECT_FALSE(ride.renderFrame(20 * 20).label.in_conflict);
+}
+
+TEST(SemiReal, BadRecordingsAreReportedWithFileAndLine) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "mcvio_sim_bad_recording";
+  std::filesystem::create_directories(dir);
+  const std::string gt = (dir / "gt.csv").string(), imu = (dir / "imu.csv").string();
+  auto write = [](const std::string& path, const std::string& text) {
+    FILE* f = std::fopen(path.c_str(), "w");
+    std::fputs(text.c_str(), f);
+    std::fclose(f);
+  };
+  write(gt, "#t,px,py,pz,qw,qx,qy,qz,vx,vy,vz,bwx,bwy,bwz,bax,bay,baz\n"
+            "1000,0,0,1,1,0,0,0,0,0,0,0,0,0,0,0,0\n"
+            "900,0,0,1,1,0,0,0,0,0,0,0,0,0,0,0,0\n");
+  write(imu, "#t,wx,wy,wz,ax,ay,az\n1000,0,0,0,0,0,nan\n");
+  auto message = [](auto&& fn) {
+    try {
+      fn();
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string m1 = message([&] { RecordedSequenceReader::readGroundTruth(gt); });
+  EXPECT_NE(m1.find("gt.csv:3"), std::string::npos) << m1;
+  const std::string m2 = message([&] { RecordedSequenceReader::readImu(imu); });
+  EXPECT_NE(m2.find("imu.csv:2"), std::string::npos) << m2;
+  const std::string m3 = message([&] { RecordedSequenceReader::readImu((dir / "missing.csv").string()); });
+  EXPECT_NE(m3.find("missing.csv"), std::string::npos) << m3;
+  SimulatorOptions o;
+  o.groundtruth_csv = gt;
+  o.imu_csv = imu;
+  EXPECT_THROW(Simulator{o}, InputError);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
