@@ -207,7 +207,6 @@ TrackingResult FeatureTracker::track(const StereoInput& input) {
     return result;
   };
   if (!calibration_) return skip(FrameStatus::kNoCalibration, "no stereo calibration received yet");
-  const CameraModel& cam0 = calibration_->cam0.model;
   const char* names[2] = {"left", "right"};
   const cv::Mat* images[2] = {&input.left, &input.right};
   for (int i = 0; i < 2; ++i) {
@@ -292,7 +291,6 @@ TrackingResult FeatureTracker::track(const StereoInput& input) {
     if (t.label == TrackLabel::kConsistent) ++stats.consistent;
     if (t.label == TrackLabel::kInconsistent) ++stats.inconsistent;
   }
-  (void)cam0;
   stats.cpu_ms_total = threadCpuMs() - t_start;
   prev_left_pyr_ = std::move(left_pyr);
   prev_t_ = input.t;

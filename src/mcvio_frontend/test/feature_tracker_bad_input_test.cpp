@@ -124,6 +124,32 @@ TEST_F(FeatureTrackerBadInputTest, NonFiniteImuSamplesAreIgnored) {
     ASSERT_TRUE(o.pixel.allFinite() && o.normalized.allFinite());
 }
 
+TEST_F(FeatureTrackerBadInputTest, FlatFrameLosesTracksThenTrackingRecovers) {
+  ASSERT_TRUE(tracker_.track((*frames_)[0]).ok());
+  StereoInput flat = (*frames_)[1];
+  flat.left = cv::Mat(flat.left.size(), CV_8UC1, cv::Scalar(0));
+  flat.right = cv::Mat(flat.right.size(), CV_8UC1, cv::Scalar(0));
+  const TrackingResult dark = tracker_.track(flat);
+  ASSERT_TRUE(dark.ok()) << dark.message;  // a valid if useless image
+  EXPECT_LT(dark.stats.tracked, 20);
+  EXPECT_EQ(dark.stats.stereo_matched, 0);
+  const TrackingResult again = tracker_.track((*frames_)[2]);
+  ASSERT_TRUE(again.ok()) << again.message;
+  EXPECT_GE(again.stats.stereo_matched, 150);
+}
+
+TEST_F(FeatureTrackerBadInputTest, MissingImuOnlyDisablesThePrediction) {
+  ASSERT_TRUE(tracker_.track((*frames_)[0]).ok());
+  StereoInput in = (*frames_)[1];
+  ASSERT_TRUE(tracker_.track(in).stats.gyro_prediction);
+  in = (*frames_)[3];  // frame 2's samples never arrive: a 50 ms hole in the IMU stream
+  const TrackingResult r = tracker_.track(in);
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_FALSE(r.stats.gyro_prediction);
+  EXPECT_GE(r.stats.tracked, 150);
+  EXPECT_TRUE(r.stats.metric_check);
+}
+
 TEST_F(FeatureTrackerBadInputTest, UnusableCalibrationThrows) {
   StereoRigCalibration c = scene_->calibration();
   c.cam1.T_BC = c.cam0.T_BC;

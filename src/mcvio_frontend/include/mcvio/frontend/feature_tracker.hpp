@@ -25,6 +25,13 @@ namespace mcvio::frontend {
 /// geometric disagreement does not: inconsistent tracks stay and are published with their
 /// label, so the backend sees motion-conflict evidence. Track ids are never reused.
 /// Bad frames are skipped with a status and message; the tracker keeps its state.
+///
+/// Usage (one instance per stereo stream; not thread-safe, call from one thread):
+///   mcvio::frontend::FeatureTracker tracker(FrontendOptions::fromFile("config/frontend.yaml"));
+///   tracker.setCalibration(rig);                  // mcvio::StereoRigCalibration
+///   TrackingResult r = tracker.track({t, left, right, imu_since_last_frame});
+///   if (!r.ok()) log(r.message); else publish(r.features);
+///   cv::Mat vis = drawTracks(left, tracker.trackHistories());
 class FeatureTracker {
  public:
   /// Throws mcvio::InputError if the options are invalid.
