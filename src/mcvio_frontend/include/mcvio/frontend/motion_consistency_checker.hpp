@@ -32,6 +32,7 @@ class MotionConsistencyChecker {
     bool valid = false;   ///< false: too few tracks, labels are kUnknown
     bool metric = false;  ///< the 3D-2D test ran (translation has metric scale)
     Eigen::Matrix3d R_cur_prev = Eigen::Matrix3d::Identity();
+    /// Metric: translation [m]. Otherwise a unit direction, up to sign (or zero: pure rotation).
     Eigen::Vector3d t_cur_prev = Eigen::Vector3d::Zero();
     std::vector<TrackLabel> labels;
     std::vector<double> residual_px;  ///< per correspondence, the error that decided its label
