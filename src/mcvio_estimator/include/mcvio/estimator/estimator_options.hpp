@@ -23,7 +23,7 @@ struct EstimatorOptions {
   // Visual measurements.
   double observation_sigma_px = 1.0;         ///< pixel noise of a feature (whitening)
   RobustLoss robust_loss = RobustLoss::kHuber;
-  double robust_loss_scale_px = 1.5;         ///< where the robust loss starts to bend [px]
+  double robust_loss_scale_px = 3.0;         ///< where the robust loss starts to bend [px] (about 3 sigma)
   double outlier_threshold_px = 4.0;         ///< observations with larger error after a solve are dropped
   double min_depth_m = 0.1;                  ///< landmarks closer than this are rejected
   double max_depth_m = 40.0;                 ///< landmarks farther than this are rejected

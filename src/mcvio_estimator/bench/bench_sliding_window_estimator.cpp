@@ -1,0 +1,72 @@
+// Backend cost per frame and accuracy on a 60 s synthetic sequence with ~150 features per frame.
+// Figures are printed as benchmark counters; run:
+//   /tmp/<build>/mcvio_estimator/bench_sliding_window_estimator
+#include <algorithm>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "mcvio/estimator/imu_preintegrator.hpp"
+#include "synthetic_vio_sequence.hpp"
+
+namespace {
+
+using namespace mcvio;
+using namespace mcvio::estimator;
+
+const testing::SyntheticSequence& sequence60s() {
+  static const testing::SyntheticSequence seq = [] {
+    testing::SyntheticConfig cfg;
+    cfg.duration_s = 60.0;
+    return testing::generateSequence(cfg);
+  }();
+  return seq;
+}
+
+void runBackend(benchmark::State& state, bool covariance) {
+  const auto& seq = sequence60s();
+  EstimatorOptions options;
+  options.compute_covariance = covariance;
+  testing::RunResult res;
+  for (auto _ : state) res = testing::runEstimator(seq, options);
+  std::vector<double> wall, features;
+  for (std::size_t i = 0; i < res.outputs.size(); ++i) {
+    const auto& o = res.outputs[i];
+    if (o.frame_accepted && o.status == EstimatorStatus::kTracking) wall.push_back(o.timings.total_ms);
+    int cam0 = 0;
+    for (const auto& f : seq.frames[i].features) cam0 += f.camera_index == 0 ? 1 : 0;
+    features.push_back(cam0);
+  }
+  std::sort(wall.begin(), wall.end());
+  double mean_features = 0;
+  for (double f : features) mean_features += f / static_cast<double>(features.size());
+  state.counters["median_wall_ms"] = wall.empty() ? 0 : wall[wall.size() / 2];
+  state.counters["median_cpu_ms"] = res.median_cpu_ms;
+  state.counters["p90_cpu_ms"] = res.p90_cpu_ms;
+  state.counters["features_per_frame"] = mean_features;
+  state.counters["frames_tracked"] = res.tracked_frames;
+  state.counters["resets"] = res.resets;
+  state.counters["ATE_m"] = res.ate_m;
+  state.counters["max_err_m"] = res.max_abs_position_error_m;
+  if (covariance) state.counters["position_NEES"] = res.mean_position_nees;
+}
+
+void BM_Backend60sWithCovariance(benchmark::State& state) { runBackend(state, true); }
+void BM_Backend60sWithoutCovariance(benchmark::State& state) { runBackend(state, false); }
+BENCHMARK(BM_Backend60sWithCovariance)->Unit(benchmark::kSecond)->Iterations(1);
+BENCHMARK(BM_Backend60sWithoutCovariance)->Unit(benchmark::kSecond)->Iterations(1);
+
+// Preintegration of one 20 Hz frame interval (10 samples at 200 Hz).
+void BM_PreintegrateFrameInterval(benchmark::State& state) {
+  const auto& seq = sequence60s();
+  for (auto _ : state) {
+    ImuPreintegrator pre(ImuBias{}, seq.noise);
+    for (int k = 0; k <= 10; ++k) pre.integrate(seq.imu[static_cast<std::size_t>(k)]);
+    benchmark::DoNotOptimize(pre.covariance());
+  }
+}
+BENCHMARK(BM_PreintegrateFrameInterval);
+
+}  // namespace
+
+BENCHMARK_MAIN();
