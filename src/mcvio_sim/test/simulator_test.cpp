@@ -38,6 +38,11 @@ TEST(Simulator, SameSeedGivesIdenticalDataAndAnotherSeedDoesNot) {
   EXPECT_EQ(cv::norm(fa.cam1, fb.cam1, cv::NORM_INF), 0.0);
   EXPECT_EQ(fa.label.covered_fraction, fb.label.covered_fraction);
 
+  SimulatorOptions one_thread = o;
+  one_thread.threads = 1;
+  const StereoRender f1 = Simulator(one_thread).renderFrame(40);
+  EXPECT_EQ(cv::norm(fa.cam0, f1.cam0, cv::NORM_INF), 0.0) << "thread count must not change the images";
+
   SimulatorOptions other = o;
   other.seed = 2;
   Simulator c(other);
