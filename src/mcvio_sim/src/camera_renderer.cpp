@@ -222,6 +222,7 @@ void CameraRenderer::render(const Scene& scene, Timestamp t, const Eigen::Isomet
   std::vector<std::vector<int>> row_counts(static_cast<size_t>(tiles_y),
                                            std::vector<int>(static_cast<size_t>(body_count) + 1, 0));
 
+  std::vector<float> radiance(static_cast<size_t>(width_) * height_);
   detail::parallelFor(tiles_y, threads_, [&](int ty) {
     std::vector<const CameraQuad*> cands;
     std::vector<int>& counts = row_counts[static_cast<size_t>(ty)];
@@ -237,7 +238,7 @@ void CameraRenderer::render(const Scene& scene, Timestamp t, const Eigen::Isomet
                 [](const CameraQuad* a, const CameraQuad* b) { return a->zmin < b->zmin; });
 
       for (int v = tile.y0; v < tile.y1; ++v) {
-        std::uint8_t* img = result->image.ptr<std::uint8_t>(v);
+        float* lum = radiance.data() + static_cast<size_t>(v) * width_;
         std::uint8_t* ids = result->body_ids.ptr<std::uint8_t>(v);
         float* depth = settings.want_depth ? result->depth.ptr<float>(v) : nullptr;
         for (int u = tile.x0; u < tile.x1; ++u) {
@@ -270,11 +271,11 @@ void CameraRenderer::render(const Scene& scene, Timestamp t, const Eigen::Isomet
             if (depth) depth[u] = 0.0f;
             ++counts[static_cast<size_t>(body_count)];
             if (use_background) {
-              img[u] = settings.background->at<std::uint8_t>(v, u);
+              lum[u] = settings.background->at<std::uint8_t>(v, u);
               continue;
             }
             if (!valid_[i]) {
-              img[u] = 0;
+              lum[u] = 0.0f;
               continue;
             }
           } else {
@@ -298,12 +299,40 @@ void CameraRenderer::render(const Scene& scene, Timestamp t, const Eigen::Isomet
             const Eigen::Vector3f dir = R_WC * Eigen::Vector3f(rx, ry, 1.0f);
             radiance = 190.0f + 50.0f * dir.z() / ray_norm_[i];  // bright sky, lighter upwards
           }
-          float value = radiance * gain * (settings.vignetting ? vignette_[i] : 1.0f);
-          if (sigma > 0.0f)
-            value += sigma * hashGaussian(splitmix64(settings.noise_seed ^ (i * 0xD1B54A32D192ED03ULL)));
-          img[u] = static_cast<std::uint8_t>(std::clamp(value + 0.5f, 0.0f, 255.0f));
+          lum[u] = radiance * gain * (settings.vignetting ? vignette_[i] : 1.0f);
         }
       }
+    }
+  });
+
+  // Lens blur (horizontal, then vertical with noise and quantisation). Pixels taken from the
+  // background image are real camera pixels: copied untouched.
+  const float a = static_cast<float>(std::clamp(settings.lens_blur, 0.0, 0.33));
+  const float c = 1.0f - 2.0f * a;
+  std::vector<float> horizontal(radiance.size());
+  detail::parallelFor(height_, threads_, [&](int v) {
+    const float* in = radiance.data() + static_cast<size_t>(v) * width_;
+    float* out = horizontal.data() + static_cast<size_t>(v) * width_;
+    for (int u = 0; u < width_; ++u)
+      out[u] = c * in[u] + a * (in[std::max(u - 1, 0)] + in[std::min(u + 1, width_ - 1)]);
+  });
+  detail::parallelFor(height_, threads_, [&](int v) {
+    const float* up = horizontal.data() + static_cast<size_t>(std::max(v - 1, 0)) * width_;
+    const float* mid = horizontal.data() + static_cast<size_t>(v) * width_;
+    const float* down = horizontal.data() + static_cast<size_t>(std::min(v + 1, height_ - 1)) * width_;
+    std::uint8_t* img = result->image.ptr<std::uint8_t>(v);
+    const std::uint8_t* ids = result->body_ids.ptr<std::uint8_t>(v);
+    for (int u = 0; u < width_; ++u) {
+      if (use_background && ids[u] == kNoBody) {
+        img[u] = settings.background->at<std::uint8_t>(v, u);
+        continue;
+      }
+      float value = c * mid[u] + a * (up[u] + down[u]);
+      if (sigma > 0.0f) {
+        const std::uint64_t i = static_cast<std::uint64_t>(v) * width_ + u;
+        value += sigma * hashGaussian(splitmix64(settings.noise_seed ^ (i * 0xD1B54A32D192ED03ULL)));
+      }
+      img[u] = static_cast<std::uint8_t>(std::clamp(value + 0.5f, 0.0f, 255.0f));
     }
   });
 

@@ -15,6 +15,9 @@ struct RenderSettings {
   double noise_sigma = 0.0;      ///< additive pixel noise [grey levels]
   std::uint64_t noise_seed = 0;  ///< per image; the same seed gives the same noise
   bool vignetting = true;        ///< darken towards the corners like a real lens
+  /// Lens blur: separable kernel [a, 1 - 2a, a] applied before the noise, so geometric edges are
+  /// soft like a real lens's (sigma ~0.6 px at 0.2). 0 turns it off.
+  double lens_blur = 0.2;
   /// When set (CV_8UC1, camera size), pixels whose ray hits nothing keep this image's value
   /// untouched instead of the sky: used to overlay objects on real images.
   const cv::Mat* background = nullptr;
