@@ -324,9 +324,11 @@ void FeatureTracker::trackTemporal(const std::vector<cv::Mat>& cur_pyr,
   std::vector<float> err;
   cv::calcOpticalFlowPyrLK(prev_left_pyr_, cur_pyr, prev_pts, cur_pts, st_fwd, err, win,
                            options_.pyramid_levels, crit, cv::OPTFLOW_USE_INITIAL_FLOW);
+  // The backward run starts where a good track must end: few levels suffice.
   back_pts = prev_pts;
   cv::calcOpticalFlowPyrLK(cur_pyr, prev_left_pyr_, cur_pts, back_pts, st_bwd, err, win,
-                           options_.pyramid_levels, crit, cv::OPTFLOW_USE_INITIAL_FLOW);
+                           std::min(options_.check_pyramid_levels, options_.pyramid_levels), crit,
+                           cv::OPTFLOW_USE_INITIAL_FLOW);
 
   std::vector<Track> kept;
   std::vector<MotionConsistencyChecker::Correspondence> corr;
@@ -496,10 +498,32 @@ void FeatureTracker::matchStereo(const std::vector<cv::Mat>& left_pyr,
   const cv::TermCriteria crit(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
                               options_.klt_max_iterations, options_.klt_epsilon);
   const std::vector<cv::Point2f> predicted = rpts;
-  std::vector<uchar> st_fwd;
+  std::vector<uchar> st_fwd(n, 0);
   std::vector<float> err;
-  cv::calcOpticalFlowPyrLK(left_pyr, right_pyr, lpts, rpts, st_fwd, err, win,
-                           options_.pyramid_levels, crit, cv::OPTFLOW_USE_INITIAL_FLOW);
+  {
+    // Tracks matched last frame start at their carried disparity and need few pyramid levels;
+    // new ones may be far from their guess and get the full pyramid.
+    const int check_levels = std::min(options_.check_pyramid_levels, options_.pyramid_levels);
+    for (const bool carried : {true, false}) {
+      std::vector<int> idx;
+      std::vector<cv::Point2f> l, r;
+      for (std::size_t i = 0; i < n; ++i) {
+        if (tracks_[i].stereo != carried) continue;
+        idx.push_back(static_cast<int>(i));
+        l.push_back(lpts[i]);
+        r.push_back(rpts[i]);
+      }
+      if (idx.empty()) continue;
+      std::vector<uchar> st;
+      cv::calcOpticalFlowPyrLK(left_pyr, right_pyr, l, r, st, err, win,
+                               carried ? check_levels : options_.pyramid_levels, crit,
+                               cv::OPTFLOW_USE_INITIAL_FLOW);
+      for (std::size_t k = 0; k < idx.size(); ++k) {
+        st_fwd[static_cast<std::size_t>(idx[k])] = st[k];
+        rpts[static_cast<std::size_t>(idx[k])] = r[k];
+      }
+    }
+  }
   // Left-right-left check, skipped for a track whose match lands within
   // stereo_prediction_tolerance_px of where last frame's verified disparity put it: that match is
   // already confirmed by the previous frame's check and this frame's temporal tracks.
@@ -525,8 +549,9 @@ void FeatureTracker::matchStereo(const std::vector<cv::Mat>& left_pyr,
       vl.push_back(lpts[static_cast<std::size_t>(i)]);
     }
     std::vector<uchar> vst;
-    cv::calcOpticalFlowPyrLK(right_pyr, left_pyr, vr, vl, vst, err, win, options_.pyramid_levels,
-                             crit, cv::OPTFLOW_USE_INITIAL_FLOW);
+    cv::calcOpticalFlowPyrLK(right_pyr, left_pyr, vr, vl, vst, err, win,
+                             std::min(options_.check_pyramid_levels, options_.pyramid_levels), crit,
+                             cv::OPTFLOW_USE_INITIAL_FLOW);
     for (std::size_t k = 0; k < verify.size(); ++k) {
       st_bwd[static_cast<std::size_t>(verify[k])] = vst[k];
       back[static_cast<std::size_t>(verify[k])] = vl[k];

@@ -37,6 +37,8 @@ void FrontendOptions::validate() const {
           "must be in [1, fast_threshold]");
   require(border_px >= 0 && border_px < 100, "border_px", "must be in [0, 100)");
   require(pyramid_levels >= 0 && pyramid_levels <= 8, "pyramid_levels", "must be in [0, 8]");
+  require(check_pyramid_levels >= 0 && check_pyramid_levels <= 8, "check_pyramid_levels",
+          "must be in [0, 8]");
   require(window_size >= 5 && window_size <= 61 && window_size % 2 == 1, "window_size",
           "must be odd and in [5, 61]");
   require(klt_max_iterations > 0, "klt_max_iterations", "must be > 0");
@@ -85,6 +87,7 @@ FrontendOptions FrontendOptions::fromYaml(const YAML::Node& node, const std::str
       {"border_px", bind(&o.border_px)},
       {"subpixel_refinement", bind(&o.subpixel_refinement)},
       {"pyramid_levels", bind(&o.pyramid_levels)},
+      {"check_pyramid_levels", bind(&o.check_pyramid_levels)},
       {"window_size", bind(&o.window_size)},
       {"klt_max_iterations", bind(&o.klt_max_iterations)},
       {"klt_epsilon", bind(&o.klt_epsilon)},

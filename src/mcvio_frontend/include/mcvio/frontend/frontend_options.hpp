@@ -22,7 +22,10 @@ struct FrontendOptions {
 
   // KLT
   int pyramid_levels = 3;  ///< highest pyramid level (0 = no pyramid)
-  int window_size = 13;    ///< KLT window side [px], odd (13: 5 ms/frame budget)
+  /// Levels for KLT runs that start at the expected answer: forward-backward and left-right-left
+  /// checks, stereo re-matching from last frame's disparity.
+  int check_pyramid_levels = 1;
+  int window_size = 13;  ///< KLT window side [px], odd (13: 5 ms/frame budget)
   int klt_max_iterations = 15;
   double klt_epsilon = 0.03;        ///< KLT stop when the update is below this [px]
   double fb_threshold_px = 0.5;     ///< forward-backward error above this drops a temporal track
