@@ -34,6 +34,7 @@ void Marginalizer::addResidualBlock(const ceres::CostFunction* cost, const ceres
                                     std::vector<double*> parameters) {
   for (const double* p : parameters)
     if (blocks_.count(p) == 0) throw std::logic_error("Marginalizer: residual uses an unregistered parameter block");
+  if (residuals_.capacity() == residuals_.size()) residuals_.reserve(2 * residuals_.size() + 64);
   residuals_.push_back(Residual{cost, loss, std::move(parameters)});
 }
 

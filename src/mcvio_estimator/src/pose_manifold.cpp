@@ -24,8 +24,13 @@ Eigen::Matrix<double, 4, 3> PoseManifold::quaternionPlusJacobian(const Eigen::Qu
 }
 
 Eigen::Matrix<double, 3, 4> PoseManifold::liftQuaternionJacobian(const Eigen::Quaterniond& q) {
-  // quaternionPlusJacobian has orthogonal columns of norm 1/2 for a unit q.
-  return 4.0 * quaternionPlusJacobian(q).transpose();
+  // 4 * quaternionPlusJacobian(q)^T: its columns are orthogonal with norm 1/2 for a unit q.
+  Eigen::Matrix<double, 3, 4> L;
+  const double w = 2.0 * q.w(), x = 2.0 * q.x(), y = 2.0 * q.y(), z = 2.0 * q.z();
+  L << w, z, -y, -x,  //
+      -z, w, x, -y,   //
+      y, -x, w, -z;
+  return L;
 }
 
 bool PoseManifold::PlusJacobian(const double* x, double* jacobian) const {

@@ -565,7 +565,7 @@ void SlidingWindowEstimator::solve(EstimatorOutput* out) {
     ++n_landmarks;
     for (auto& r : pending) {
       problem.AddResidualBlock(r.cost, r.loss, r.params);
-      records_.push_back(r);
+      records_.push_back(std::move(r));
       ++n_visual;
     }
   }

@@ -1,5 +1,6 @@
 #pragma once
 #include <map>
+#include <unordered_map>
 #include <memory>
 #include <set>
 #include <vector>
@@ -57,7 +58,7 @@ class Marginalizer {
   /// Residual and tangent-space Jacobians (loss applied).
   bool linearize(const Residual& res, Eigen::VectorXd* r, std::vector<Eigen::MatrixXd>* J) const;
 
-  std::map<const double*, BlockInfo> blocks_;
+  std::unordered_map<const double*, BlockInfo> blocks_;
   std::vector<Residual> residuals_;
 };
 

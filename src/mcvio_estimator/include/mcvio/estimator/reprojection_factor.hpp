@@ -24,7 +24,7 @@ class ReprojectionFactor : public ceres::SizedCostFunction<2, 7, 7, 3> {
 
  private:
   Eigen::Vector2d measured_;
-  Eigen::Matrix3d R_BC0_, R_BC_;
+  Eigen::Matrix3d R_BC0_, R_BC_, R_CB_;
   Eigen::Vector3d t_BC0_, t_BC_;
   double scale_;
 };
