@@ -199,7 +199,14 @@ void FeatureTracker::buildPyramid(const cv::Mat& image, std::vector<cv::Mat>* py
 TrackingResult FeatureTracker::track(const StereoInput& input) {
   TrackingResult result;
   result.features.t = input.t;
-  for (const ImuSample& s : input.imu) gyro_.add(s);
+  int imu_rejected = 0;
+  for (const ImuSample& s : input.imu) imu_rejected += gyro_.add(s) ? 0 : 1;
+  result.stats.imu_rejected = imu_rejected;
+  if (imu_rejected > 0) {
+    result.message = "frontend: frame t=" + std::to_string(input.t) + ": ignored " +
+                     std::to_string(imu_rejected) +
+                     " IMU sample(s) that were non-finite or not newer than the last";
+  }
 
   auto skip = [&](FrameStatus status, const std::string& why) {
     result.status = status;

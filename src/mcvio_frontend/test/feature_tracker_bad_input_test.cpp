@@ -118,8 +118,12 @@ TEST_F(FeatureTrackerBadInputTest, NonFiniteImuSamplesAreIgnored) {
   ASSERT_TRUE(tracker_.track((*frames_)[0]).ok());
   StereoInput in = (*frames_)[1];
   in.imu.front().gyro.x() = std::numeric_limits<double>::quiet_NaN();
+  in.imu.push_back(in.imu.front());  // and one sample back in time
+  in.imu.back().gyro.x() = 0.0;
   const TrackingResult r = tracker_.track(in);
   ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_EQ(r.stats.imu_rejected, 2);
+  EXPECT_NE(r.message.find("ignored 2 IMU"), std::string::npos) << r.message;
   for (const auto& o : r.features.features)
     ASSERT_TRUE(o.pixel.allFinite() && o.normalized.allFinite());
 }

@@ -35,6 +35,7 @@ struct TrackingStats {
   int stereo_matched = 0;  ///< tracks with a right observation
   int consistent = 0;
   int inconsistent = 0;
+  int imu_rejected = 0;          ///< IMU samples ignored: non-finite or not newer than the last
   bool gyro_prediction = false;  ///< initial flow came from the integrated gyro
   bool metric_check = false;     ///< the motion check used stereo points
   // CPU time of this thread per stage [ms]: what the frame cost, independent of machine load.
@@ -46,7 +47,8 @@ struct TrackingStats {
 };
 
 /// The frontend's answer for one input frame. When status != kOk, `features` is empty and the
-/// tracker state is unchanged; `message` says what was wrong.
+/// tracker state is unchanged (IMU samples are still taken); `message` says what was wrong.
+/// With kOk, a non-empty `message` is a warning (ignored IMU samples).
 struct TrackingResult {
   FrameStatus status = FrameStatus::kOk;
   std::string message;
