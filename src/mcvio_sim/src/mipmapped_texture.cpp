@@ -237,7 +237,6 @@ MipmappedTexture MipmappedTexture::generate(TextureStyle style, int size, std::u
 MipmappedTexture::MipmappedTexture(int size, const std::vector<std::uint8_t>& level0) : size_(size) {
   if (!isPowerOfTwo(size) || level0.size() != static_cast<size_t>(size) * size)
     throw std::invalid_argument("MipmappedTexture: level 0 must be size x size, power of two");
-  // Build the pyramid row-major, then store every level blocked.
   std::vector<std::vector<std::uint8_t>> rows{level0};
   for (int n = size / 2; n >= 1; n /= 2) {
     const auto& prev = rows.back();
@@ -251,13 +250,7 @@ MipmappedTexture::MipmappedTexture(int size, const std::vector<std::uint8_t>& le
       }
     rows.push_back(std::move(next));
   }
-  for (size_t l = 0; l < rows.size(); ++l) {
-    const int n = size >> l;
-    std::vector<std::uint8_t> blocked(rows[l].size());
-    for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x) blocked[index(n, x, y)] = rows[l][static_cast<size_t>(y) * n + x];
-    levels_.push_back(std::move(blocked));
-  }
+  levels_ = std::move(rows);
 }
 
 }  // namespace mcvio::sim
