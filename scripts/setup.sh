@@ -12,7 +12,7 @@ DEBIAN_PACKAGES=(
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
   libeigen3-dev libceres-dev libopencv-dev
   libyaml-cpp-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libssl-dev
-  libzstd-dev liblz4-dev libsqlite3-dev
+  libzstd-dev liblz4-dev libsqlite3-dev zlib1g-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   colcon python3-colcon-cmake python3-colcon-metadata python3-colcon-recursive-crawl
   python3-colcon-package-selection python3-colcon-parallel-executor python3-colcon-output

@@ -30,7 +30,10 @@ int main(int argc, char** argv) {
       "  mcvio topics                      list topics on the bus with their ROS 2 types\n"
       "  mcvio echo /imu0 --count 1        print one message as YAML\n"
       "  mcvio nodes                       list ROS 2 nodes (mcvio components and others)\n"
-      "  mcvio demo                        publish and echo a short stream on the bus",
+      "  mcvio demo                        publish and echo a short stream on the bus\n"
+      "  mcvio sim --scenario elevator --out /tmp/elevator   render a sequence with a motion conflict\n"
+      "  mcvio play /tmp/elevator --rate 2  publish a EuRoC folder on the bus\n"
+      "  mcvio record -o /tmp/run --all     record the bus to a rosbag2 bag (MCAP)",
       "mcvio"};
   app.require_subcommand(1);
   CommandContext ctx;
@@ -47,6 +50,11 @@ int main(int argc, char** argv) {
   addEchoCommand(app, ctx);
   addNodesCommand(app, ctx);
   addDemoCommand(app, ctx);
+  addPlayCommand(app, ctx);
+  addSimCommand(app, ctx);
+  addInjectCommand(app, ctx);
+  addRecordCommand(app, ctx);
+  addBagCommand(app, ctx);
   mcvio::dds::ShutdownSignal::install();
   try {
     app.parse(argc, argv);

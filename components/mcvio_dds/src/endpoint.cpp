@@ -1,5 +1,6 @@
 #include "mcvio/dds/endpoint.hpp"
 
+#include <cstdio>
 #include <thread>
 
 #include <fastdds/dds/core/status/PublicationMatchedStatus.hpp>
@@ -74,12 +75,24 @@ bool WriterEndpoint::waitForAcknowledgments(std::chrono::milliseconds timeout) c
          ReturnCode_t::RETCODE_OK;
 }
 
+bool& inSubscriptionCallback() {
+  thread_local bool in_callback = false;
+  return in_callback;
+}
+
 bool WriterEndpoint::write(void* sample, std::chrono::milliseconds give_up) {
-  const auto deadline = std::chrono::steady_clock::now() + give_up;
+  if (writer_->write(sample)) return true;
+  if (qos_.history != QosProfile::History::kKeepAll) return false;
+  if (inSubscriptionCallback()) {
+    std::fprintf(stderr, "mcvio: %s: lossless write from a subscription callback found the reader full; "
+                 "sample dropped (publish lossless streams from the component's own thread)\n", ros_topic_.c_str());
+    return false;
+  }
   // A keep-all writer whose readers are behind returns false after max_blocking_time: try again
   // so a slow reader slows us down instead of losing samples.
+  const auto deadline = std::chrono::steady_clock::now() + give_up;
   while (!writer_->write(sample)) {
-    if (qos_.history != QosProfile::History::kKeepAll || std::chrono::steady_clock::now() > deadline) return false;
+    if (std::chrono::steady_clock::now() > deadline) return false;
   }
   return true;
 }

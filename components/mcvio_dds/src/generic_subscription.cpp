@@ -19,6 +19,7 @@ GenericSubscription::~GenericSubscription() { shutdown(); }
 
 void GenericSubscription::on_data_available(eprosima::fastdds::dds::DataReader* reader) {
   eprosima::fastdds::dds::SampleInfo info;
+  SubscriptionCallbackScope scope;
   while (reader->take_next_sample(&sample_, &info) == ReturnCode_t::RETCODE_OK) {
     if (!info.valid_data) continue;
     ReceivedPayload p;

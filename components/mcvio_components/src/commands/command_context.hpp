@@ -22,6 +22,11 @@ void addTopicsCommand(CLI::App& app, CommandContext& ctx);
 void addEchoCommand(CLI::App& app, CommandContext& ctx);
 void addNodesCommand(CLI::App& app, CommandContext& ctx);
 void addDemoCommand(CLI::App& app, CommandContext& ctx);
+void addPlayCommand(CLI::App& app, CommandContext& ctx);
+void addSimCommand(CLI::App& app, CommandContext& ctx);
+void addInjectCommand(CLI::App& app, CommandContext& ctx);
+void addRecordCommand(CLI::App& app, CommandContext& ctx);
+void addBagCommand(CLI::App& app, CommandContext& ctx);
 
 /// Thrown by a command to end with `code` after printing `what()` (if not empty) to stderr.
 struct CommandExit {

@@ -14,6 +14,22 @@ namespace mcvio::dds {
 
 class Node;
 
+/// True while this thread runs a subscription callback. A keep-all write from there must not wait
+/// for acknowledgments: the thread that would process them is this one (it would hang forever).
+bool& inSubscriptionCallback();
+
+/// Marks the current thread as running a subscription callback for its lifetime.
+class SubscriptionCallbackScope {
+ public:
+  SubscriptionCallbackScope() : previous_(inSubscriptionCallback()) { inSubscriptionCallback() = true; }
+  ~SubscriptionCallbackScope() { inSubscriptionCallback() = previous_; }
+  SubscriptionCallbackScope(const SubscriptionCallbackScope&) = delete;
+  SubscriptionCallbackScope& operator=(const SubscriptionCallbackScope&) = delete;
+
+ private:
+  bool previous_;
+};
+
 /// The untyped part of a publisher: topic, DataWriter, ROS graph bookkeeping.
 class WriterEndpoint {
  public:
@@ -33,6 +49,8 @@ class WriterEndpoint {
   bool waitForAcknowledgments(std::chrono::milliseconds timeout) const;
   /// Writes one sample (type-erased pointer of the registered type). With the lossless profile
   /// a full reader makes this wait; it retries until written or `give_up` passes, returning false.
+  /// Inside a subscription callback it tries once (see inSubscriptionCallback()): lossless
+  /// republishing belongs on the component's own thread.
   bool write(void* sample, std::chrono::milliseconds give_up = std::chrono::milliseconds(60000));
 
  protected:

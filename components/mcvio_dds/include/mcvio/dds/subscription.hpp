@@ -29,6 +29,7 @@ class Subscription : public ReaderEndpoint, private eprosima::fastdds::dds::Data
  private:
   void on_data_available(eprosima::fastdds::dds::DataReader* reader) override {
     eprosima::fastdds::dds::SampleInfo info;
+    SubscriptionCallbackScope scope;
     while (reader->take_next_sample(&sample_, &info) == ReturnCode_t::RETCODE_OK) {
       if (info.valid_data) callback_(sample_);
     }

@@ -1,0 +1,93 @@
+#include "mcvio/components/bag_player.hpp"
+
+#include <chrono>
+#include <map>
+#include <thread>
+
+#include "mcvio/core/progress_bar.hpp"
+#include "mcvio/dds/shutdown_signal.hpp"
+#include "mcvio/interfaces/type_names.hpp"
+
+namespace mcvio::components {
+
+BagPlayer::BagPlayer(std::shared_ptr<dds::Node> node, const std::string& bag, PlayerOptions options,
+                     std::vector<std::string> topics)
+    : node_(std::move(node)), bag_(bag), options_(options), topic_filter_(std::move(topics)) {
+  options_.validate();
+}
+
+BagPlayer::~BagPlayer() = default;
+
+PlaybackSummary BagPlayer::run() {
+  using Clock = std::chrono::steady_clock;
+  PlaybackSummary summary;
+  bag::BagReaderOptions ro;
+  ro.topics = topic_filter_;
+  // Publishers per topic, with the QoS the recording publishers offered (reliability and
+  // durability), or lossless when asked.
+  std::map<std::string, std::unique_ptr<dds::GenericPublisher>> pubs;
+  {
+    bag::BagReader probe(bag_, ro);
+    for (const auto& t : probe.topics()) {
+      if (!topic_filter_.empty() && std::find(topic_filter_.begin(), topic_filter_.end(), t.name) == topic_filter_.end()) continue;
+      dds::QosProfile q = dds::QosProfile::defaults();
+      if (options_.lossless) {
+        q = dds::QosProfile::lossless();
+      } else if (t.offered_qos_profiles.find("reliability: 2") != std::string::npos) {
+        q = dds::QosProfile::sensorData();
+      }
+      if (t.offered_qos_profiles.find("durability: 1") != std::string::npos && !options_.lossless) {
+        q.durability = dds::QosProfile::Durability::kTransientLocal;
+      }
+      pubs[t.name] = std::make_unique<dds::GenericPublisher>(*node_, t.name, interfaces::rosToDdsTypeName(t.type),
+                                                             t.type_description_hash, q);
+    }
+  }
+  if (pubs.empty()) throw std::runtime_error("play: " + bag_ + " has none of the selected topics");
+  if (options_.wait_for_readers_s > 0 && options_.min_readers > 0) {
+    const auto timeout = std::chrono::milliseconds(static_cast<int>(options_.wait_for_readers_s * 1000));
+    for (auto& [name, p] : pubs) {
+      if (!p->waitForReaders(options_.min_readers, timeout) && options_.lossless) {
+        throw std::runtime_error("play: no reader of " + name + "; lossless playback needs its readers first");
+      }
+    }
+  }
+  const auto wall_start = Clock::now();
+  do {
+    bag::BagReader reader(bag_, ro);
+    const std::size_t total = reader.metadata().message_count;
+    ProgressBar bar("play", total, options_.progress);
+    const auto pass_start = Clock::now();
+    Timestamp t_first = -1;
+    std::size_t done = 0;
+    bag::BagMessage m;
+    while (!dds::ShutdownSignal::requested() && reader.next(m)) {
+      if (t_first < 0) t_first = m.log_time + fromSeconds(options_.start_s);
+      if (m.log_time < t_first) continue;
+      if (options_.duration_s > 0 && m.log_time > t_first + fromSeconds(options_.duration_s)) break;
+      if (!options_.lossless) {
+        const double offset_s = toSeconds(m.log_time - t_first) / options_.rate;
+        std::this_thread::sleep_until(pass_start + std::chrono::nanoseconds(static_cast<std::int64_t>(offset_s * 1e9)));
+      }
+      auto it = pubs.find(m.topic);
+      if (it == pubs.end()) continue;
+      if (!it->second->publish(m.data)) {
+        throw std::runtime_error("play: a lossless reader of " + m.topic + " stopped taking samples");
+      }
+      ++done;
+      if (m.topic.find("image") != std::string::npos) ++summary.frames;
+      if (done % 20 == 0) bar.update(done, std::to_string(done) + " messages");
+      summary.data_seconds = toSeconds(m.log_time - t_first);
+    }
+    bar.finish();
+    summary.messages += done;
+  } while (options_.loop && !dds::ShutdownSignal::requested());
+  if (options_.lossless) {
+    for (auto& [name, p] : pubs) p->waitForAcknowledgments(std::chrono::seconds(30));
+  }
+  summary.interrupted = dds::ShutdownSignal::requested();
+  summary.wall_seconds = std::chrono::duration<double>(Clock::now() - wall_start).count();
+  return summary;
+}
+
+}  // namespace mcvio::components

@@ -1,0 +1,178 @@
+#include "mcvio/components/recorder.hpp"
+
+#include <chrono>
+#include <iostream>
+
+#include "mcvio/interfaces/message_registry.hpp"
+
+namespace mcvio::components {
+namespace {
+
+// rosbag2's offered_qos_profiles: one entry per publisher. Discovery tells reliability and
+// durability; history and depth are not announced, so they are written as "unknown" (3) / 0.
+std::string offeredQosYaml(const dds::DiscoveredTopic& t) {
+  std::string y;
+  for (const auto& q : t.publisher_qos) {
+    std::string entry = q.toRosbag2Yaml();
+    entry.replace(0, entry.find('\n'), "history: 3");
+    const auto depth = entry.find("depth: ");
+    entry.replace(depth, entry.find('\n', depth) - depth, "depth: 0");
+    y += "- " + entry;
+  }
+  return y;
+}
+
+dds::QosProfile readerQosFor(const dds::DiscoveredTopic& t) {
+  bool all_reliable = !t.publisher_qos.empty(), all_transient = !t.publisher_qos.empty();
+  for (const auto& q : t.publisher_qos) {
+    all_reliable = all_reliable && q.reliability == dds::QosProfile::Reliability::kReliable;
+    all_transient = all_transient && q.durability == dds::QosProfile::Durability::kTransientLocal;
+  }
+  // Reliable publishers get a keep-all reader: their history flows to the bag without loss.
+  dds::QosProfile q = all_reliable ? dds::QosProfile::lossless() : dds::QosProfile::sensorData();
+  if (!all_reliable) q.depth = 100;
+  q.durability = all_transient ? dds::QosProfile::Durability::kTransientLocal : dds::QosProfile::Durability::kVolatile;
+  return q;
+}
+
+}  // namespace
+
+void RecorderOptions::validate() const {
+  if (topics.empty() && !all && regex.empty()) {
+    throw std::invalid_argument("record: name topics, or give --all or --regex");
+  }
+  if (!regex.empty()) {
+    try {
+      std::regex r(regex);
+    } catch (const std::regex_error& e) {
+      throw std::invalid_argument("record: --regex '" + regex + "' is not a valid regular expression: " + e.what());
+    }
+  }
+  if (!(discovery_period_s > 0)) throw std::invalid_argument("record: discovery period must be > 0");
+  bag.validate();
+}
+
+Recorder::Recorder(std::shared_ptr<dds::Node> node, dds::GraphMonitor& monitor, const std::string& bag_dir,
+                   RecorderOptions options)
+    : node_(std::move(node)), monitor_(monitor), options_(std::move(options)) {
+  options_.validate();
+  if (!options_.regex.empty()) regex_ = std::regex(options_.regex);
+  writer_ = std::make_unique<bag::BagWriter>(bag_dir, options_.bag);
+}
+
+Recorder::~Recorder() {
+  if (running_) stop();
+}
+
+bool Recorder::selected(const dds::DiscoveredTopic& t) const {
+  if (!t.is_ros || t.publishers == 0) return false;
+  if (options_.all) return true;
+  for (const auto& name : options_.topics) {
+    if (name == t.name || "/" + name == t.name) return true;
+  }
+  return !options_.regex.empty() && std::regex_search(t.name, regex_);
+}
+
+void Recorder::start() {
+  running_ = true;
+  writer_thread_ = std::thread([this] { writerLoop(); });
+  discovery_thread_ = std::thread([this] { discoveryLoop(); });
+}
+
+void Recorder::discoveryLoop() {
+  // Entities are created here, not in the discovery callback: Fast DDS must not be re-entered
+  // from its own discovery thread.
+  while (running_) {
+    for (const auto& t : monitor_.topics()) {
+      bool known;
+      {
+        std::lock_guard<std::mutex> lock(subs_mutex_);
+        known = subs_.count(t.name) > 0;
+      }
+      if (!known && selected(t)) subscribe(t);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int>(options_.discovery_period_s * 1000)));
+  }
+}
+
+void Recorder::subscribe(const dds::DiscoveredTopic& t) {
+  bag::TopicInfo info;
+  info.name = t.name;
+  info.type = t.type;
+  info.offered_qos_profiles = offeredQosYaml(t);
+  info.type_description_hash = t.type_hash;
+  // Types we know carry their definition; others are still recorded, as opaque CDR.
+  if (const auto* d = interfaces::MessageRegistry::find(t.type)) {
+    info.message_definition = std::string(d->full_definition);
+    if (info.type_description_hash.empty()) info.type_description_hash = std::string(d->type_hash);
+  }
+  std::size_t index;
+  {
+    std::lock_guard<std::mutex> lock(writer_mutex_);
+    index = writer_->addTopic(info);
+    topic_names_[index] = t.name;
+  }
+  auto sub = std::make_unique<dds::GenericSubscription>(
+      *node_, t.name, t.dds_type, t.type_hash, readerQosFor(t), [this, index](const dds::ReceivedPayload& p) {
+        {
+          std::lock_guard<std::mutex> lock(queue_mutex_);
+          queue_.push_back(Queued{index, p.receive_time_ns, p.source_time_ns, *p.payload});
+        }
+        queue_cv_.notify_one();
+      });
+  std::lock_guard<std::mutex> lock(subs_mutex_);
+  subs_[t.name] = std::move(sub);
+  std::cerr << "mcvio record: recording " << t.name << " [" << t.type << "]\n";
+}
+
+void Recorder::writerLoop() {
+  std::unique_lock<std::mutex> lock(queue_mutex_);
+  while (true) {
+    queue_cv_.wait(lock, [this] { return !queue_.empty() || !running_; });
+    if (queue_.empty() && !running_) break;
+    while (!queue_.empty()) {
+      Queued q = std::move(queue_.front());
+      queue_.pop_front();
+      bag::BagMessage m;
+      m.log_time = q.log_time;
+      m.publish_time = q.publish_time > 0 ? q.publish_time : q.log_time;
+      m.data = std::move(q.data);
+      // Keep DDS threads queueing while the (possibly compressing) write runs.
+      lock.unlock();
+      {
+        std::lock_guard<std::mutex> wlock(writer_mutex_);
+        m.topic = topic_names_.at(q.topic_index);
+        summary_.bytes += m.data.size();
+        ++summary_.messages_per_topic[m.topic];
+        writer_->write(m);
+      }
+      ++written_;
+      lock.lock();
+    }
+  }
+}
+
+RecordingSummary Recorder::stop() {
+  if (!running_) return summary_;
+  running_ = false;
+  if (discovery_thread_.joinable()) discovery_thread_.join();
+  {
+    std::lock_guard<std::mutex> lock(subs_mutex_);
+    subs_.clear();  // no more samples after this
+  }
+  queue_cv_.notify_all();
+  if (writer_thread_.joinable()) writer_thread_.join();
+  std::lock_guard<std::mutex> wlock(writer_mutex_);
+  writer_->close();
+  summary_.messages = written_.load();
+  return summary_;
+}
+
+std::vector<std::string> Recorder::recordedTopics() const {
+  std::lock_guard<std::mutex> lock(subs_mutex_);
+  std::vector<std::string> v;
+  for (const auto& [n, s] : subs_) v.push_back(n);
+  return v;
+}
+
+}  // namespace mcvio::components
