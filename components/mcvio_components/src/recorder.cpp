@@ -126,9 +126,14 @@ void Recorder::subscribe(const dds::DiscoveredTopic& t) {
 }
 
 void Recorder::writerLoop() {
+  // A chunk is only safe from kill -9 once it is complete on disk: flush the open one at least
+  // every second, so a killed recorder loses at most about the last second.
+  using Clock = std::chrono::steady_clock;
+  auto last_flush = Clock::now();
+  bool dirty = false;
   std::unique_lock<std::mutex> lock(queue_mutex_);
   while (true) {
-    queue_cv_.wait(lock, [this] { return !queue_.empty() || !running_; });
+    queue_cv_.wait_for(lock, std::chrono::milliseconds(200), [this] { return !queue_.empty() || !running_; });
     if (queue_.empty() && !running_) break;
     while (!queue_.empty()) {
       Queued q = std::move(queue_.front());
@@ -147,7 +152,19 @@ void Recorder::writerLoop() {
         writer_->write(m);
       }
       ++written_;
+      dirty = true;
       lock.lock();
+      if (Clock::now() - last_flush > std::chrono::seconds(1)) break;
+    }
+    if (dirty && Clock::now() - last_flush > std::chrono::seconds(1)) {
+      lock.unlock();
+      {
+        std::lock_guard<std::mutex> wlock(writer_mutex_);
+        writer_->flush();
+      }
+      lock.lock();
+      last_flush = Clock::now();
+      dirty = false;
     }
   }
 }
