@@ -149,20 +149,34 @@ MotionConsistencyChecker::Result MotionConsistencyChecker::checkMetric(
     const std::vector<Correspondence>& tracks, const std::vector<int>& with_point,
     const Eigen::Matrix3d* prior) {
   const int n = static_cast<int>(with_point.size());
-  const int sample_size = prior ? 2 : 3;
   std::uniform_int_distribution<int> pick(0, n - 1);
-  int best_count = -1;
-  Eigen::Matrix3d best_R = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d best_t = Eigen::Vector3d::Zero();
-  auto score = [&](const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
-    int count = 0;
+  // MSAC: truncated squared error, so among hypotheses that explain about as many tracks the
+  // one that explains them best wins (not one bent to also catch a few moving points).
+  const double thr2 = threshold_ * threshold_;
+  auto cost = [&](const Eigen::Matrix3d& R, const Eigen::Vector3d& t, int* count) {
+    double c = 0.0;
+    *count = 0;
     for (int i : with_point) {
       const auto& tr = tracks[static_cast<std::size_t>(i)];
-      if (reprojectionError(R, t, tr.point_prev, tr.cur_normalized) < threshold_) ++count;
+      const double e = reprojectionError(R, t, tr.point_prev, tr.cur_normalized);
+      if (e < threshold_) {
+        c += e * e;
+        ++*count;
+      } else {
+        c += thr2;
+      }
     }
-    return count;
+    return c;
   };
+  bool found = false;
+  double best_cost = 0.0;
+  Eigen::Matrix3d best_R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d best_t = Eigen::Vector3d::Zero();
+  // With a gyro rotation, every other hypothesis still comes from 3 points alone: the largest
+  // consensus wins even when it does not turn like the IMU (a turning vehicle's interior).
   for (int it = 0; it < iterations_; ++it) {
+    const bool use_prior = prior != nullptr && it % 2 == 0;
+    const int sample_size = use_prior ? 2 : 3;
     int s[3];
     for (int k = 0; k < sample_size; ++k) {
       bool fresh = false;
@@ -174,22 +188,23 @@ MotionConsistencyChecker::Result MotionConsistencyChecker::checkMetric(
     }
     Eigen::Matrix3d R = prior ? *prior : Eigen::Matrix3d::Identity();
     Eigen::Vector3d t = Eigen::Vector3d::Zero();
-    if (prior) {
+    if (use_prior) {
       if (!solveTranslation(R, tracks, s, 2, &t)) continue;
     } else {
       refinePose(tracks, std::vector<int>(s, s + 3), 8, &R, &t);
       if (!R.allFinite() || !t.allFinite()) continue;
     }
-    const int count = score(R, t);
-    if (count > best_count) {
-      best_count = count;
+    int count = 0;
+    const double c = cost(R, t, &count);
+    if (!found || c < best_cost) {
+      found = true;
+      best_cost = c;
       best_R = R;
       best_t = t;
-      if (count == n) break;
     }
   }
   Result r;
-  r.valid = best_count >= 0;
+  r.valid = found;
   r.metric = true;
   r.R_cur_prev = best_R;
   r.t_cur_prev = best_t;
@@ -207,7 +222,10 @@ MotionConsistencyChecker::Result MotionConsistencyChecker::checkMetric(
     Eigen::Matrix3d R = r.R_cur_prev;
     Eigen::Vector3d t = r.t_cur_prev;
     refinePose(tracks, inliers, 5, &R, &t);
-    if (score(R, t) >= static_cast<int>(inliers.size())) {
+    int count = 0;
+    const double c = cost(R, t, &count);
+    if (c <= best_cost) {
+      best_cost = c;
       r.R_cur_prev = R;
       r.t_cur_prev = t;
     }

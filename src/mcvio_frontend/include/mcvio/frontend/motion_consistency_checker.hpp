@@ -11,8 +11,10 @@ namespace mcvio::frontend {
 /// track as consistent or inconsistent with it.
 ///
 /// Tracks with a stereo point from the previous frame give a metric test: the camera motion
-/// (R, t) is sampled from 2 points with the gyro rotation (or 3 points without it), refined by
-/// Gauss-Newton on the inliers, and each point's reprojection error decides its label. This
+/// (R, t) is sampled alternately from 2 points with the gyro rotation and from 3 points alone
+/// (only the latter without gyro), so the largest consensus wins even if it does not turn like
+/// the IMU; it is refined by Gauss-Newton on the inliers, and each point's reprojection error
+/// decides its label. This
 /// resolves what a two-view epipolar test cannot: an object translating in front of a still
 /// camera looks like camera translation to the essential matrix, never to a 3D-2D check.
 /// Tracks without depth are judged by their distance to the epipolar line of that motion.
