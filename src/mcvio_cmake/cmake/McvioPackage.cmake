@@ -20,7 +20,8 @@ option(MCVIO_BUILD_TESTS "Build the package's tests" ON)
 option(MCVIO_BUILD_BENCHMARKS "Build the package's Google Benchmarks" ON)
 option(MCVIO_WERROR "Treat warnings as errors" OFF)
 if(MCVIO_BUILD_TESTS)
-  enable_testing()
+  # CTest (not just enable_testing) writes the DartConfiguration colcon's ctest call expects.
+  include(CTest)
 endif()
 
 # mcvio_add_library(NAME SOURCES src... PUBLIC_DEPS targets... PRIVATE_DEPS targets...)
