@@ -194,13 +194,16 @@ SimulationSummary Simulator::writeDataset(
         if (!write_error) {
           writer.addStereoFrame(item.t, item.cam0, item.cam1);
           writer.addLabel(item.label);
+          ++written;
+          if (progress) progress(written, frame_times_.size());
         }
       } catch (...) {
-        std::lock_guard<std::mutex> lock(mutex);
-        write_error = std::current_exception();
+        {
+          std::lock_guard<std::mutex> lock(mutex);
+          write_error = std::current_exception();
+        }
+        cv.notify_all();
       }
-      ++written;
-      if (progress) progress(written, frame_times_.size());
     }
   });
   double render_seconds = 0;

@@ -137,6 +137,21 @@ TEST(Simulator, WritesAEurocFolderThatReadsBack) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(Simulator, AnExistingOutputIsNotOverwrittenAndAFailingCallbackStopsTheRun) {
+  const std::string dir = (std::filesystem::temp_directory_path() / "mcvio_sim_test_exists").string();
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir + "/mav0");
+  SimulatorOptions o = shortRun(ScenarioKind::kNone, 1.0, 0.0, 0.0);
+  o.output_dir = dir;
+  EXPECT_THROW(runSimulation(o), InputError);
+  o.overwrite = true;
+  EXPECT_THROW(runSimulation(o, [](std::size_t done, std::size_t) {
+                 if (done == 3) throw std::runtime_error("stop");
+               }),
+               std::runtime_error);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(SimulatorOptions, YamlKeysAreReadAndMistakesAreNamed) {
   const SimulatorOptions o = SimulatorOptions::fromYaml(YAML::Load(
       "seed: 7\nscenario: {kind: vehicle, onset_s: 5, duration_s: 10, coverage: 0.5}\n"

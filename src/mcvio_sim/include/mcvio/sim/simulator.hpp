@@ -67,7 +67,8 @@ class Simulator {
 
   /// Writes options().output_dir as a EuRoC folder: cam0/cam1 PNGs, imu0, ground truth,
   /// sensor.yaml files and conflict_labels.csv. Rendering and PNG encoding overlap.
-  /// progress(done, total) is called after each frame is written.
+  /// progress(done, total) is called after each frame is written, from the writer thread; an
+  /// exception it throws stops the run and is rethrown here.
   SimulationSummary writeDataset(const std::function<void(std::size_t, std::size_t)>& progress = {});
 
  private:
