@@ -202,6 +202,7 @@ MotionConsistencyChecker::Result MotionConsistencyChecker::checkMetric(
       best_R = R;
       best_t = t;
     }
+    if (count == n) break;  // everything agrees: the refinement below polishes the fit
   }
   Result r;
   r.valid = found;
