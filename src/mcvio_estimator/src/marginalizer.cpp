@@ -92,8 +92,15 @@ void Marginalizer::reducedSystem(const std::vector<const double*>& order, const 
     Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1> g;
     std::vector<std::pair<int, CouplingBlock>> coupling;  // dense offset -> H_landmark,block
   };
-  std::unordered_map<const double*, LandmarkTerms> landmarks;
-  landmarks.reserve(residuals_.size());
+  // Terms in first-use order, so the elimination (and its rounding) does not depend on addresses.
+  std::vector<LandmarkTerms> landmark_terms;
+  std::unordered_map<const double*, std::size_t> landmark_index;
+  landmark_index.reserve(residuals_.size());
+  auto termsOf = [&](const double* lm) -> LandmarkTerms& {
+    const auto [it, inserted] = landmark_index.emplace(lm, landmark_terms.size());
+    if (inserted) landmark_terms.emplace_back();
+    return landmark_terms[it->second];
+  };
 
   Eigen::VectorXd r;
   std::vector<Eigen::MatrixXd> J;
@@ -143,7 +150,7 @@ void Marginalizer::reducedSystem(const std::vector<const double*>& order, const 
         H->block<6, 6>(o1, o1).noalias() += J1.transpose() * J1;
         g->segment<6>(o0).noalias() += J0.transpose() * rr;
         g->segment<6>(o1).noalias() += J1.transpose() * rr;
-        LandmarkTerms& t = landmarks[res.parameters[2]];
+        LandmarkTerms& t = termsOf(res.parameters[2]);
         if (t.h.size() == 0) {
           t.h.setZero(3, 3);
           t.g.setZero(3);
@@ -181,7 +188,7 @@ void Marginalizer::reducedSystem(const std::vector<const double*>& order, const 
       }
     }
     if (lm != nullptr) {
-      LandmarkTerms& t = landmarks[lm];
+      LandmarkTerms& t = termsOf(lm);
       const auto k = J[li].cols();
       if (t.h.size() == 0) {
         t.h.setZero(k, k);
@@ -202,7 +209,7 @@ void Marginalizer::reducedSystem(const std::vector<const double*>& order, const 
     }
   }
   // Exact Schur complement of each landmark (no residual couples two of them).
-  for (const auto& [ptr, t] : landmarks) {
+  for (const auto& t : landmark_terms) {
     const bool fixed = t.h.rows() == 3 && std::all_of(t.coupling.begin(), t.coupling.end(),
                                                        [](const auto& c) { return c.second.cols() == 6; });
     if (fixed) {
