@@ -51,6 +51,7 @@ PlaybackSummary BagPlayer::run() {
         throw std::runtime_error("play: no reader of " + name + "; lossless playback needs its readers first");
       }
     }
+    std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int>(options_.settle_s * 1000)));
   }
   const auto wall_start = Clock::now();
   do {

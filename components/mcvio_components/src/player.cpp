@@ -34,6 +34,7 @@ void PlayerOptions::validate() const {
   if (!(rate > 0.0)) throw std::invalid_argument("player: rate must be > 0, got " + std::to_string(rate));
   if (wait_for_readers_s < 0) throw std::invalid_argument("player: wait_for_readers_s must be >= 0");
   if (min_readers < 0) throw std::invalid_argument("player: min_readers must be >= 0");
+  if (settle_s < 0) throw std::invalid_argument("player: settle_s must be >= 0");
   if (start_s < 0 || duration_s < 0) throw std::invalid_argument("player: start_s and duration_s must be >= 0");
 }
 
@@ -67,6 +68,7 @@ PlaybackSummary Player::run() {
                                  " s; lossless playback needs its readers before it starts");
       }
     }
+    std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int>(options_.settle_s * 1000)));
   }
   // One time line of frames, IMU samples and ground truth, in time order (frames first on ties,
   // as a camera driver's image and the IMU sample of the same instant).

@@ -18,6 +18,9 @@ struct PlayerOptions {
   /// (lossless mode fails if they do not come: samples published before a reader matches are gone).
   double wait_for_readers_s = 10.0;
   int min_readers = 1;
+  /// Then wait this long more: matching is two-sided, and a best-effort reader drops samples that
+  /// arrive before it has matched the writer itself (the writer already counts it) [s].
+  double settle_s = 0.5;
   bool loop = false;
   bool progress = true;
   /// Skip this much of the start and stop after this much (0 = all) [s].
