@@ -55,6 +55,7 @@ int main(int argc, char** argv) {
   addInjectCommand(app, ctx);
   addRecordCommand(app, ctx);
   addBagCommand(app, ctx);
+  addFrontendCommand(app, ctx);
   mcvio::dds::ShutdownSignal::install();
   try {
     app.parse(argc, argv);

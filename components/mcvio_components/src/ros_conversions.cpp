@@ -96,4 +96,40 @@ nav_msgs::msg::dds_::Odometry_ toOdometryMsg(const dataset::GroundTruthState& s,
   return msg;
 }
 
+mcvio_msgs::msg::dds_::FeatureFrame_ toFeatureFrameMsg(const FeatureFrame& f) {
+  mcvio_msgs::msg::dds_::FeatureFrame_ msg;
+  msg.header(makeHeader(f.t, "cam0"));
+  msg.frame_index(f.frame_index);
+  msg.features().reserve(f.features.size());
+  for (const auto& o : f.features) {
+    mcvio_msgs::msg::dds_::Feature_ m;
+    m.track_id(o.track_id);
+    m.camera_index(o.camera_index);
+    m.u(o.pixel.x());
+    m.v(o.pixel.y());
+    m.x(o.normalized.x());
+    m.y(o.normalized.y());
+    m.label(static_cast<std::uint8_t>(o.label));
+    msg.features().push_back(m);
+  }
+  return msg;
+}
+
+FeatureFrame fromFeatureFrameMsg(const mcvio_msgs::msg::dds_::FeatureFrame_& msg) {
+  FeatureFrame f;
+  f.t = stampOf(msg.header());
+  f.frame_index = msg.frame_index();
+  f.features.reserve(msg.features().size());
+  for (const auto& m : msg.features()) {
+    FeatureObservation o;
+    o.track_id = m.track_id();
+    o.camera_index = m.camera_index();
+    o.pixel = {m.u(), m.v()};
+    o.normalized = {m.x(), m.y()};
+    o.label = m.label() <= 2 ? static_cast<TrackLabel>(m.label()) : TrackLabel::kUnknown;
+    f.features.push_back(o);
+  }
+  return f;
+}
+
 }  // namespace mcvio::components

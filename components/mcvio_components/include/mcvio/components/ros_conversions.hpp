@@ -4,6 +4,7 @@
 #include <opencv2/core.hpp>
 
 #include "mcvio/core/camera_calibration.hpp"
+#include "mcvio/core/feature_frame.hpp"
 #include "mcvio/core/imu_sample.hpp"
 #include "mcvio/dataset/ground_truth_state.hpp"
 #include "mcvio/interfaces/ros_type_traits.hpp"
@@ -23,5 +24,10 @@ sensor_msgs::msg::dds_::CameraInfo_ toCameraInfoMsg(const CameraCalibration& cal
 /// Pose of the body in `world`, twist in the body frame (child_frame_id), as REP-105 says.
 nav_msgs::msg::dds_::Odometry_ toOdometryMsg(const dataset::GroundTruthState& state, const std::string& world_frame,
                                              const std::string& body_frame);
+
+/// The frontend's output as mcvio_msgs/FeatureFrame (frame id cam0, stamp = image time).
+mcvio_msgs::msg::dds_::FeatureFrame_ toFeatureFrameMsg(const FeatureFrame& frame);
+/// The inverse, for the backend side.
+FeatureFrame fromFeatureFrameMsg(const mcvio_msgs::msg::dds_::FeatureFrame_& msg);
 
 }  // namespace mcvio::components

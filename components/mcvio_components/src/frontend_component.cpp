@@ -1,0 +1,175 @@
+#include "mcvio/components/frontend_component.hpp"
+
+#include <iostream>
+
+#include "mcvio/components/ros_conversions.hpp"
+#include "mcvio/core/input_error.hpp"
+#include "mcvio/dataset/euroc_file_reader.hpp"
+#include "mcvio/frontend/track_drawer.hpp"
+
+namespace mcvio::components {
+namespace {
+
+using Image = sensor_msgs::msg::dds_::Image_;
+using Imu = sensor_msgs::msg::dds_::Imu_;
+using FeatureFrameMsg = mcvio_msgs::msg::dds_::FeatureFrame_;
+
+// A mono8 view of the message's pixels; empty with a reason for anything else.
+cv::Mat imageOf(const Image& msg, std::string* why) {
+  if (msg.encoding() != "mono8" && msg.encoding() != "8UC1") {
+    *why = "encoding '" + msg.encoding() + "' (mono8 expected)";
+    return {};
+  }
+  if (msg.step() < msg.width() || msg.data().size() < static_cast<std::size_t>(msg.step()) * msg.height()) {
+    *why = "data holds " + std::to_string(msg.data().size()) + " bytes, less than step*height";
+    return {};
+  }
+  return cv::Mat(static_cast<int>(msg.height()), static_cast<int>(msg.width()), CV_8UC1,
+                 const_cast<std::uint8_t*>(msg.data().data()), msg.step()).clone();
+}
+
+}  // namespace
+
+struct FrontendComponent::Impl {
+  std::shared_ptr<dds::Node> node;
+  FrontendComponentOptions options;
+  frontend::FeatureTracker tracker;
+  std::unique_ptr<dds::Publisher<FeatureFrameMsg>> features_pub;
+  std::unique_ptr<dds::Publisher<Image>> tracks_pub;
+  std::unique_ptr<dds::Subscription<Image>> left_sub, right_sub;
+  std::unique_ptr<dds::Subscription<Imu>> imu_sub;
+
+  mutable std::mutex mutex;
+  std::condition_variable cv;
+  std::map<Timestamp, cv::Mat> left, right;  // waiting for their partner
+  std::deque<frontend::StereoInput> queue;
+  std::vector<ImuSample> imu;  // since the last queued pair
+  FrontendComponentStats stats;
+  std::atomic<bool> running{true};
+  std::thread worker;
+
+  explicit Impl(std::shared_ptr<dds::Node> n, FrontendComponentOptions o)
+      : node(std::move(n)), options(std::move(o)), tracker(options.tracker) {
+    if (!options.calibration_dir.empty()) {
+      tracker.setCalibration(dataset::EurocFileReader::readCalibration(options.calibration_dir));
+    } else {
+      std::cerr << "mcvio frontend: no --calib given: frames are skipped until a calibration is set "
+                   "(camera_info has no stereo extrinsics)\n";
+    }
+    const auto in_qos = options.lossless ? dds::QosProfile::lossless() : dds::QosProfile::sensorData();
+    const auto out_qos = options.lossless ? dds::QosProfile::lossless() : dds::QosProfile::defaults();
+    features_pub = node->createPublisher<FeatureFrameMsg>("/mcvio/features", out_qos);
+    if (options.publish_tracks_image) tracks_pub = node->createPublisher<Image>("/mcvio/tracks_image", dds::QosProfile::sensorData());
+    worker = std::thread([this] { run(); });
+    left_sub = node->createSubscription<Image>("/cam0/image_raw", in_qos, [this](const Image& m) { onImage(m, 0); });
+    right_sub = node->createSubscription<Image>("/cam1/image_raw", in_qos, [this](const Image& m) { onImage(m, 1); });
+    imu_sub = node->createSubscription<Imu>("/imu0", in_qos, [this](const Imu& m) { onImu(m); });
+  }
+
+  ~Impl() {
+    left_sub.reset();
+    right_sub.reset();
+    imu_sub.reset();
+    running = false;
+    cv.notify_all();
+    if (worker.joinable()) worker.join();
+  }
+
+  void onImu(const Imu& m) {
+    ImuSample s;
+    s.t = stampOf(m.header());
+    s.gyro = {m.angular_velocity().x(), m.angular_velocity().y(), m.angular_velocity().z()};
+    s.accel = {m.linear_acceleration().x(), m.linear_acceleration().y(), m.linear_acceleration().z()};
+    std::lock_guard<std::mutex> lock(mutex);
+    imu.push_back(s);  // the tracker ignores non-finite or old samples and counts them
+  }
+
+  void onImage(const Image& m, int camera) {
+    std::string why;
+    cv::Mat img = imageOf(m, &why);
+    const Timestamp t = stampOf(m.header());
+    std::lock_guard<std::mutex> lock(mutex);
+    if (img.empty()) {
+      ++stats.bad_images;
+      std::cerr << "mcvio frontend: /cam" << camera << "/image_raw at " << t << " skipped: " << why << "\n";
+      return;
+    }
+    auto& mine = camera == 0 ? left : right;
+    auto& other = camera == 0 ? right : left;
+    auto partner = other.lower_bound(t - options.stereo_tolerance_ns);
+    if (partner != other.end() && partner->first <= t + options.stereo_tolerance_ns) {
+      frontend::StereoInput in;
+      in.t = camera == 0 ? t : partner->first;
+      in.left = camera == 0 ? img : partner->second;
+      in.right = camera == 0 ? partner->second : img;
+      // Older unpaired images will never find a partner now.
+      for (auto it = other.begin(); it != partner;) { ++stats.unpaired_images; it = other.erase(it); }
+      other.erase(partner);
+      for (auto it = mine.begin(); it != mine.end() && it->first < t;) { ++stats.unpaired_images; it = mine.erase(it); }
+      in.imu.swap(imu);
+      ++stats.pairs_received;
+      if (!options.lossless && queue.size() >= options.max_queued_pairs) {
+        ++stats.pairs_dropped;
+        std::cerr << "mcvio frontend: tracker behind, dropping the pair at " << queue.front().t << "\n";
+        // Keep its IMU for the next pair so the gyro prediction stays continuous.
+        auto dropped_imu = std::move(queue.front().imu);
+        queue.pop_front();
+        if (!queue.empty()) queue.front().imu.insert(queue.front().imu.begin(), dropped_imu.begin(), dropped_imu.end());
+      }
+      queue.push_back(std::move(in));
+      cv.notify_one();
+    } else {
+      mine[t] = img;
+      if (mine.size() > 10) {  // a partner that never comes (lost frame): do not grow forever
+        ++stats.unpaired_images;
+        mine.erase(mine.begin());
+      }
+    }
+  }
+
+  void run() {
+    while (true) {
+      frontend::StereoInput in;
+      {
+        std::unique_lock<std::mutex> lock(mutex);
+        cv.wait(lock, [this] { return !queue.empty() || !running; });
+        if (queue.empty()) return;
+        in = std::move(queue.front());
+        queue.pop_front();
+      }
+      const auto result = tracker.track(in);
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!result.ok()) {
+        ++stats.frames_skipped;
+        std::cerr << "mcvio frontend: frame " << in.t << " skipped (" << frontend::toString(result.status)
+                  << "): " << result.message << "\n";
+        continue;
+      }
+      features_pub->publish(toFeatureFrameMsg(result.features));
+      ++stats.frames_published;
+      if (tracks_pub) {
+        cv::Mat rgb = frontend::drawTracks(in.left, tracker.trackHistories());
+        Image msg;
+        msg.header(makeHeader(in.t, "cam0"));
+        msg.height(static_cast<std::uint32_t>(rgb.rows));
+        msg.width(static_cast<std::uint32_t>(rgb.cols));
+        msg.encoding("rgb8");
+        msg.step(static_cast<std::uint32_t>(rgb.cols * 3));
+        msg.data().assign(rgb.data, rgb.data + rgb.total() * 3);
+        tracks_pub->publish(msg);
+      }
+    }
+  }
+};
+
+FrontendComponent::FrontendComponent(std::shared_ptr<dds::Node> node, FrontendComponentOptions options)
+    : impl_(std::make_unique<Impl>(std::move(node), std::move(options))) {}
+
+FrontendComponent::~FrontendComponent() = default;
+
+FrontendComponentStats FrontendComponent::stats() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  return impl_->stats;
+}
+
+}  // namespace mcvio::components
