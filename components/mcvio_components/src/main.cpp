@@ -33,7 +33,8 @@ int main(int argc, char** argv) {
       "  mcvio demo                        publish and echo a short stream on the bus\n"
       "  mcvio sim --scenario elevator --out /tmp/elevator   render a sequence with a motion conflict\n"
       "  mcvio play /tmp/elevator --rate 2  publish a EuRoC folder on the bus\n"
-      "  mcvio record -o /tmp/run --all     record the bus to a rosbag2 bag (MCAP)",
+      "  mcvio record -o /tmp/run --all     record the bus to a rosbag2 bag (MCAP)\n"
+      "  mcvio run --dataset DIR --out OUT  the whole VIO offline: trajectory.tum, stats.json",
       "mcvio"};
   app.require_subcommand(1);
   CommandContext ctx;
@@ -56,6 +57,7 @@ int main(int argc, char** argv) {
   addRecordCommand(app, ctx);
   addBagCommand(app, ctx);
   addFrontendCommand(app, ctx);
+  addRunCommand(app, ctx);
   mcvio::dds::ShutdownSignal::install();
   try {
     app.parse(argc, argv);

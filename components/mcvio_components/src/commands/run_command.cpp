@@ -1,0 +1,37 @@
+#include <iostream>
+
+#include "commands/command_context.hpp"
+#include "mcvio/pipeline/offline_run.hpp"
+
+namespace mcvio::cli {
+
+void addRunCommand(CLI::App& app, CommandContext&) {
+  auto opt = std::make_shared<pipeline::OfflineRunOptions>();
+  auto quiet = std::make_shared<bool>(false);
+  auto mode = std::make_shared<std::string>("reference");
+  auto* cmd = app.add_subcommand(
+      "run",
+      "Run the whole VIO (frontend + sliding-window estimator) over a EuRoC folder without DDS,\n"
+      "deterministically. Writes OUT/trajectory.tum (t x y z qx qy qz qw: imu0 in world, t in s) and\n"
+      "OUT/stats.json (per-stage CPU time, features, keyframes, resets).\n"
+      "Examples:\n"
+      "  mcvio run --dataset ../shared/data/euroc_V1_01_excerpt --out /tmp/run\n"
+      "  mcvio run --dataset /tmp/elevator --out /tmp/run_elevator --config my_vio.yaml");
+  cmd->add_option("--dataset", opt->dataset_dir, "EuRoC folder (holding mav0/)")->required();
+  cmd->add_option("--out", opt->output_dir, "output folder (created)")->required();
+  cmd->add_option("--config", opt->config_file, "YAML with `frontend:` and `estimator:` option sections");
+  cmd->add_option("--mode", *mode, "conflict handling; only `reference` (none) exists so far")
+      ->check(CLI::IsMember({"reference"}))
+      ->capture_default_str();
+  cmd->add_flag("-q,--quiet", *quiet, "no progress bar");
+  cmd->callback([opt, quiet] {
+    opt->progress = !*quiet;
+    const auto s = pipeline::runOffline(*opt);
+    std::cerr << "mcvio run: " << s.frames << " frames, " << s.estimated << " poses, " << s.skipped << " skipped, "
+              << s.resets << " resets in " << s.wall_seconds << " s (" << s.data_seconds << " s of data, "
+              << (s.wall_seconds > 0 ? s.data_seconds / s.wall_seconds : 0.0) << "x real time) -> "
+              << opt->output_dir << "/trajectory.tum\n";
+  });
+}
+
+}  // namespace mcvio::cli
