@@ -12,11 +12,13 @@ result=$(colcon test-result --test-result-base build --all 2>&1)
 status=$?
 echo "$result" | grep -vE '^build/.*: [0-9]+ tests, 0 errors, 0 failures' | tail -n 40
 summary=$(echo "$result" | grep -E '^Summary:' | tail -n 1)
-total=$(sed -E 's/.* ([0-9]+) tests.*/\1/' <<<"$summary")
-errors=$(sed -E 's/.* ([0-9]+) errors.*/\1/' <<<"$summary")
-failures=$(sed -E 's/.* ([0-9]+) failures.*/\1/' <<<"$summary")
-skipped=$(sed -E 's/.* ([0-9]+) skipped.*/\1/' <<<"$summary")
-if [ -z "$summary" ]; then
+# "Summary: 233 tests, 0 errors, 1 failure, 0 skipped" (singular forms too)
+field() { sed -nE "s/.* ([0-9]+) $1.*/\\1/p" <<<"$summary"; }
+total=$(field 'tests?')
+errors=$(field 'errors?')
+failures=$(field 'failures?')
+skipped=$(field 'skipped')
+if [ -z "$summary" ] || [ -z "$total" ] || [ -z "$errors" ] || [ -z "$failures" ] || [ -z "$skipped" ]; then
   echo "0 passed, 1 failed (no test results found)"
   exit 1
 fi

@@ -25,6 +25,9 @@ check "echo decodes gravity" "z: 9.81" "$tmp/echo.txt"
 [ "$(grep -c '^---$' "$tmp/echo.txt")" -eq 2 ] && echo "ok: echo --count 2 printed 2 messages" || { echo "FAIL: echo count"; failed=1; }
 timeout -s KILL 30 "$mcvio" echo /cam0/camera_info --count 1 --timeout 10 > "$tmp/info.txt" 2>&1
 check "echo gets transient-local calibration as a late joiner" "distortion_model: 'plumb_bob'" "$tmp/info.txt"
-timeout -s KILL 30 "$mcvio" nodes --wait 2 > "$tmp/nodes.txt" 2>&1
+for attempt in 1 2 3 4 5; do  # discovery of a new participant can take a moment under load
+  timeout -s KILL 30 "$mcvio" nodes --wait 2 > "$tmp/nodes.txt" 2>&1
+  grep -qF "/mcvio/demo_device" "$tmp/nodes.txt" && break
+done
 check "nodes shows the demo's node" "/mcvio/demo_device" "$tmp/nodes.txt"
 exit $failed

@@ -11,7 +11,7 @@ namespace mcvio::cli {
 
 void addNodesCommand(CLI::App& app, CommandContext& ctx) {
   struct Options {
-    double wait_s = 1.5;
+    double wait_s = 3.0;  // discovery of a new participant occasionally needs a SEDP repair (~3 s)
     bool all = false;
   };
   auto opt = std::make_shared<Options>();
