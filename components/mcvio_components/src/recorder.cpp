@@ -1,6 +1,7 @@
 #include "mcvio/components/recorder.hpp"
 
 #include <chrono>
+#include <cstring>
 #include <iostream>
 
 #include "mcvio/interfaces/message_registry.hpp"
@@ -106,6 +107,23 @@ void Recorder::subscribe(const dds::DiscoveredTopic& t) {
     info.message_definition = std::string(d->full_definition);
     if (info.type_description_hash.empty()) info.type_description_hash = std::string(d->type_hash);
   }
+  // Types that start with a std_msgs/Header (Image, Imu, Odometry, ...) have their stamp at a
+  // fixed place: CDR header (4) + sec (4) + nanosec (4). That stamp is stored as publish time.
+  bool stamped = false;
+  if (const auto* d = interfaces::MessageRegistry::find(t.type)) {
+    const std::string_view text = d->text;
+    std::size_t pos = 0;
+    while (pos < text.size()) {
+      auto end = text.find('\n', pos);
+      std::string_view line = text.substr(pos, end == std::string_view::npos ? std::string_view::npos : end - pos);
+      pos = end == std::string_view::npos ? text.size() : end + 1;
+      const auto first = line.find_first_not_of(" \t");
+      if (first == std::string_view::npos || line[first] == '#') continue;
+      if (line.find('=') != std::string_view::npos && line.find("<=") == std::string_view::npos) continue;  // constant
+      stamped = line.substr(first).rfind("std_msgs/Header ", 0) == 0;
+      break;
+    }
+  }
   std::size_t index;
   {
     std::lock_guard<std::mutex> lock(writer_mutex_);
@@ -113,10 +131,19 @@ void Recorder::subscribe(const dds::DiscoveredTopic& t) {
     topic_names_[index] = t.name;
   }
   auto sub = std::make_unique<dds::GenericSubscription>(
-      *node_, t.name, t.dds_type, t.type_hash, readerQosFor(t), [this, index](const dds::ReceivedPayload& p) {
+      *node_, t.name, t.dds_type, t.type_hash, readerQosFor(t), [this, index, stamped](const dds::ReceivedPayload& p) {
+        std::int64_t header_time = p.source_time_ns;
+        const auto& b = *p.payload;
+        if (stamped && b.size() >= 12 && b[1] == 0x01) {  // little-endian plain CDR
+          std::int32_t sec;
+          std::uint32_t nsec;
+          std::memcpy(&sec, b.data() + 4, 4);
+          std::memcpy(&nsec, b.data() + 8, 4);
+          header_time = static_cast<std::int64_t>(sec) * 1000000000 + nsec;
+        }
         {
           std::lock_guard<std::mutex> lock(queue_mutex_);
-          queue_.push_back(Queued{index, p.receive_time_ns, p.source_time_ns, *p.payload});
+          queue_.push_back(Queued{index, p.receive_time_ns, header_time, *p.payload});
         }
         queue_cv_.notify_one();
       });

@@ -92,9 +92,19 @@ TEST_P(RecorderTest, RecordsEveryMessageOfALosslessPlaybackByteForByte) {
   for (const auto& s : data.imu()) expected["/imu0"].push_back(serialize(components::toImuMsg(s, "imu0")));
 
   std::map<std::string, std::vector<std::vector<std::uint8_t>>> recorded;
+  std::map<std::string, std::vector<Timestamp>> publish_times;
   bag::BagReader reader(bag_dir);
   bag::BagMessage m;
-  while (reader.next(m)) recorded[m.topic].push_back(m.data);
+  while (reader.next(m)) {
+    recorded[m.topic].push_back(m.data);
+    publish_times[m.topic].push_back(m.publish_time);
+  }
+  // Publish time is the header stamp: the data set's own time (MCAP; rosbag2's sqlite3 schema
+  // has only the receive time).
+  if (GetParam() == "mcap") {
+    ASSERT_EQ(publish_times["/imu0"].size(), data.imu().size());
+    for (std::size_t i = 0; i < data.imu().size(); ++i) EXPECT_EQ(publish_times["/imu0"][i], data.imu()[i].t);
+  }
   ASSERT_EQ(recorded.size(), expected.size());
   for (const auto& [topic, msgs] : expected) {
     ASSERT_EQ(recorded[topic].size(), msgs.size()) << topic;

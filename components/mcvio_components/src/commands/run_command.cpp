@@ -16,8 +16,13 @@ void addRunCommand(CLI::App& app, CommandContext&) {
       "OUT/stats.json (per-stage CPU time, features, keyframes, resets).\n"
       "Examples:\n"
       "  mcvio run --dataset ../shared/data/euroc_V1_01_excerpt --out /tmp/run\n"
-      "  mcvio run --dataset /tmp/elevator --out /tmp/run_elevator --config my_vio.yaml");
-  cmd->add_option("--dataset", opt->dataset_dir, "EuRoC folder (holding mav0/)")->required();
+      "  mcvio run --dataset /tmp/elevator --out /tmp/run_elevator --config my_vio.yaml\n"
+      "  mcvio run --dataset /tmp/recorded_bag --calib ../shared/data/euroc_V1_01_excerpt --out /tmp/run_bag");
+  cmd->add_option("--dataset", opt->dataset_dir,
+                  "EuRoC folder (holding mav0/) or a rosbag2 bag with /cam0/image_raw, /cam1/image_raw, /imu0")
+      ->required();
+  cmd->add_option("--calib", opt->calibration_dir,
+                  "EuRoC folder whose sensor.yaml files give the stereo calibration (required for bags)");
   cmd->add_option("--out", opt->output_dir, "output folder (created)")->required();
   cmd->add_option("--config", opt->config_file, "YAML with `frontend:` and `estimator:` option sections");
   cmd->add_option("--mode", *mode, "conflict handling; only `reference` (none) exists so far")

@@ -38,7 +38,8 @@ struct RecordingSummary {
 
 /// The recorder component: subscribes to the selected topics as they are discovered (any type,
 /// through the raw-payload subscription, so topics of other ROS 2 nodes are recorded too) and
-/// writes their CDR payloads with receive and source times to a rosbag2 bag.
+/// writes their CDR payloads to a rosbag2 bag: log time = receive time, publish time = the
+/// message's header stamp (the writer's source timestamp for types without a header).
 ///
 /// Samples are queued by the DDS threads and written by one writer thread, so a slow disk or a
 /// compression burst never blocks reception. A reliable topic is read with a keep-all reader:
