@@ -9,6 +9,8 @@
 namespace mcvio::components {
 namespace {
 
+// Reliable publishers get a keep-all reader (compatibleReaderQos): their history flows to the bag
+// without loss.
 // rosbag2's offered_qos_profiles: one entry per publisher. Discovery tells reliability and
 // durability; history and depth are not announced, so they are written as "unknown" (3) / 0.
 std::string offeredQosYaml(const dds::DiscoveredTopic& t) {
@@ -21,19 +23,6 @@ std::string offeredQosYaml(const dds::DiscoveredTopic& t) {
     y += "- " + entry;
   }
   return y;
-}
-
-dds::QosProfile readerQosFor(const dds::DiscoveredTopic& t) {
-  bool all_reliable = !t.publisher_qos.empty(), all_transient = !t.publisher_qos.empty();
-  for (const auto& q : t.publisher_qos) {
-    all_reliable = all_reliable && q.reliability == dds::QosProfile::Reliability::kReliable;
-    all_transient = all_transient && q.durability == dds::QosProfile::Durability::kTransientLocal;
-  }
-  // Reliable publishers get a keep-all reader: their history flows to the bag without loss.
-  dds::QosProfile q = all_reliable ? dds::QosProfile::lossless() : dds::QosProfile::sensorData();
-  if (!all_reliable) q.depth = 100;
-  q.durability = all_transient ? dds::QosProfile::Durability::kTransientLocal : dds::QosProfile::Durability::kVolatile;
-  return q;
 }
 
 }  // namespace
@@ -131,7 +120,7 @@ void Recorder::subscribe(const dds::DiscoveredTopic& t) {
     topic_names_[index] = t.name;
   }
   auto sub = std::make_unique<dds::GenericSubscription>(
-      *node_, t.name, t.dds_type, t.type_hash, readerQosFor(t), [this, index, stamped](const dds::ReceivedPayload& p) {
+      *node_, t.name, t.dds_type, t.type_hash, t.compatibleReaderQos(/*keep_all_when_reliable=*/true), [this, index, stamped](const dds::ReceivedPayload& p) {
         std::int64_t header_time = p.source_time_ns;
         const auto& b = *p.payload;
         if (stamped && b.size() >= 12 && b[1] == 0x01) {  // little-endian plain CDR

@@ -101,32 +101,32 @@ void GraphMonitor::removeEndpoint(const std::array<std::uint8_t, 16>& guid) {
   changed_.notify_all();
 }
 
+// Writer and reader announcements carry the same fields; one place turns either into an Endpoint.
+template <class ProxyData>
+GraphMonitor::Endpoint GraphMonitor::endpointOf(const ProxyData& data, bool is_writer) {
+  Endpoint e;
+  e.dds_topic = data.topicName().to_string();
+  e.dds_type = data.typeName().to_string();
+  e.type_hash = typeHashFromUserData(data.m_qos.m_userData.data_vec());
+  e.is_writer = is_writer;
+  e.qos = profileOf(data.m_qos);
+  return e;
+}
+
 void GraphMonitor::on_publisher_discovery(eprosima::fastdds::dds::DomainParticipant*, WriterDiscoveryInfo&& info) {
   if (info.status == WriterDiscoveryInfo::REMOVED_WRITER) {
     removeEndpoint(key(info.info.guid()));
-    return;
+  } else {
+    addEndpoint(key(info.info.guid()), endpointOf(info.info, true));
   }
-  Endpoint e;
-  e.dds_topic = info.info.topicName().to_string();
-  e.dds_type = info.info.typeName().to_string();
-  e.type_hash = typeHashFromUserData(info.info.m_qos.m_userData.data_vec());
-  e.is_writer = true;
-  e.qos = profileOf(info.info.m_qos);
-  addEndpoint(key(info.info.guid()), std::move(e));
 }
 
 void GraphMonitor::on_subscriber_discovery(eprosima::fastdds::dds::DomainParticipant*, ReaderDiscoveryInfo&& info) {
   if (info.status == ReaderDiscoveryInfo::REMOVED_READER) {
     removeEndpoint(key(info.info.guid()));
-    return;
+  } else {
+    addEndpoint(key(info.info.guid()), endpointOf(info.info, false));
   }
-  Endpoint e;
-  e.dds_topic = info.info.topicName().to_string();
-  e.dds_type = info.info.typeName().to_string();
-  e.type_hash = typeHashFromUserData(info.info.m_qos.m_userData.data_vec());
-  e.is_writer = false;
-  e.qos = profileOf(info.info.m_qos);
-  addEndpoint(key(info.info.guid()), std::move(e));
 }
 
 void GraphMonitor::on_participant_discovery(eprosima::fastdds::dds::DomainParticipant*,
@@ -145,6 +145,22 @@ void GraphMonitor::on_participant_discovery(eprosima::fastdds::dds::DomainPartic
     }
   }
   changed_.notify_all();
+}
+
+QosProfile DiscoveredTopic::compatibleReaderQos(bool keep_all_when_reliable) const {
+  bool all_reliable = !publisher_qos.empty(), all_transient = !publisher_qos.empty();
+  for (const auto& q : publisher_qos) {
+    all_reliable = all_reliable && q.reliability == QosProfile::Reliability::kReliable;
+    all_transient = all_transient && q.durability == QosProfile::Durability::kTransientLocal;
+  }
+  QosProfile q = QosProfile::defaults();
+  if (all_reliable && keep_all_when_reliable) q = QosProfile::lossless();
+  if (!all_reliable) {
+    q.reliability = QosProfile::Reliability::kBestEffort;
+    q.depth = 100;
+  }
+  q.durability = all_transient ? QosProfile::Durability::kTransientLocal : QosProfile::Durability::kVolatile;
+  return q;
 }
 
 std::vector<DiscoveredTopic> GraphMonitor::topics() const {

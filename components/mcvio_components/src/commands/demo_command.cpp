@@ -133,9 +133,7 @@ void addDemoCommand(CLI::App& app, CommandContext& ctx) {
           rosmsg::MessageDefinitionSet::parse(desc.name, desc.full_definition)));
       codecs.push_back(std::make_unique<rosmsg::CdrCodec>(*defs.back()));
       auto* codec = codecs.back().get();
-      dds::QosProfile q = dds::QosProfile::defaults();
-      q.reliability = t.publisher_qos.front().reliability;
-      q.durability = t.publisher_qos.front().durability;
+      const dds::QosProfile q = t.compatibleReaderQos();
       const std::string name = t.name, type = t.type;
       subs.push_back(std::make_unique<dds::GenericSubscription>(
           *observer, t.name, t.dds_type, t.type_hash, q, [&, name, type, codec](const dds::ReceivedPayload& p) {

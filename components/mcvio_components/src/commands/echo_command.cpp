@@ -20,19 +20,6 @@
 namespace mcvio::cli {
 namespace {
 
-// A reader every offered writer matches: reliable/transient local only when all writers offer it.
-dds::QosProfile compatibleQos(const dds::DiscoveredTopic& t) {
-  dds::QosProfile q = dds::QosProfile::defaults();
-  bool all_reliable = !t.publisher_qos.empty(), all_transient = !t.publisher_qos.empty();
-  for (const auto& p : t.publisher_qos) {
-    all_reliable = all_reliable && p.reliability == dds::QosProfile::Reliability::kReliable;
-    all_transient = all_transient && p.durability == dds::QosProfile::Durability::kTransientLocal;
-  }
-  q.reliability = all_reliable ? dds::QosProfile::Reliability::kReliable : dds::QosProfile::Reliability::kBestEffort;
-  q.durability = all_transient ? dds::QosProfile::Durability::kTransientLocal : dds::QosProfile::Durability::kVolatile;
-  return q;
-}
-
 std::string seconds(double s) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g s", s);
@@ -109,7 +96,7 @@ void addEchoCommand(CLI::App& app, CommandContext& ctx) {
     std::mutex out_mutex;
     std::atomic<int> printed{0};
     dds::GenericSubscription sub(*node, topic, interfaces::rosToDdsTypeName(type), std::string(desc->type_hash),
-                                 discovered ? compatibleQos(found) : dds::QosProfile::defaults(),
+                                 discovered ? found.compatibleReaderQos() : dds::QosProfile::defaults(),
                                  [&](const dds::ReceivedPayload& p) {
                                    std::lock_guard<std::mutex> lock(out_mutex);
                                    if (opt->count > 0 && printed.load() >= opt->count) return;

@@ -30,6 +30,10 @@ struct DiscoveredTopic {
   int subscribers = 0;
   std::vector<QosProfile> publisher_qos;  ///< reliability and durability as offered (history unknown)
   bool is_ros = false;
+
+  /// A reader every offered writer matches: reliable (keep-all when `keep_all_when_reliable`) and
+  /// transient local only when all writers offer them; best effort, depth 100, otherwise.
+  QosProfile compatibleReaderQos(bool keep_all_when_reliable = false) const;
 };
 
 /// A ROS 2 node announced in some participant's ros_discovery_info.
@@ -69,6 +73,8 @@ class GraphMonitor : public eprosima::fastdds::dds::DomainParticipantListener {
     bool is_writer = false;
     QosProfile qos;
   };
+  template <class ProxyData>
+  static Endpoint endpointOf(const ProxyData& data, bool is_writer);
   void addEndpoint(const std::array<std::uint8_t, 16>& guid, Endpoint e);
   void removeEndpoint(const std::array<std::uint8_t, 16>& guid);
 
