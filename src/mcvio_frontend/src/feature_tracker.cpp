@@ -95,7 +95,7 @@ void FeatureTracker::setCalibration(const StereoRigCalibration& calibration) {
   const CameraModel& cam0 = calibration.cam0.model;
   checker_ = std::make_unique<MotionConsistencyChecker>(
       options_.ransac_threshold_px, 0.5 * (cam0.fu() + cam0.fv()), options_.ransac_iterations,
-      options_.min_tracks_for_check, options_.ransac_seed);
+      options_.min_tracks_for_check, options_.ransac_seed, options_.min_depth_m);
   reset();
 }
 

@@ -47,6 +47,23 @@ double epipolarError(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const E
   return std::abs(c.homogeneous().dot(line)) / den;
 }
 
+// A track without depth under a metric (R, t): its point lies somewhere on the ray of p between
+// min_depth and infinity, whose image is a segment of the epipolar line (inverse depth rho in
+// [0, rho_max]). Distance of c to that segment: unlike the full epipolar line, it rejects flow
+// that only a point behind the camera or nearer than min_depth could make.
+double depthBoundedError(const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+                         const Eigen::Vector2d& p, const Eigen::Vector2d& c, double rho_max) {
+  const Eigen::Vector3d far = R * p.homogeneous();
+  if (far.z() < 1e-6) return kInf;
+  if (t.z() < 0.0) rho_max = std::min(rho_max, 0.99 * (far.z() - 1e-6) / -t.z());
+  const Eigen::Vector3d near = far + rho_max * t;
+  const Eigen::Vector2d a = far.head<2>() / far.z(), b = near.head<2>() / near.z();
+  const Eigen::Vector2d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double s = len2 < 1e-18 ? 0.0 : std::clamp((c - a).dot(ab) / len2, 0.0, 1.0);
+  return (a + s * ab - c).norm();
+}
+
 // Translation given the rotation, least squares over the listed 3D-2D pairs.
 bool solveTranslation(const Eigen::Matrix3d& R,
                       const std::vector<MotionConsistencyChecker::Correspondence>& tracks,
@@ -102,11 +119,13 @@ void refinePose(const std::vector<MotionConsistencyChecker::Correspondence>& tra
 }  // namespace
 
 MotionConsistencyChecker::MotionConsistencyChecker(double threshold_px, double focal_px,
-                                                   int iterations, int min_tracks, unsigned seed)
+                                                   int iterations, int min_tracks, unsigned seed,
+                                                   double min_depth_m)
     : threshold_(threshold_px / focal_px),
       focal_px_(focal_px),
       iterations_(iterations),
       min_tracks_(min_tracks),
+      min_depth_m_(min_depth_m),
       rng_(seed) {}
 
 MotionConsistencyChecker::Result MotionConsistencyChecker::check(
@@ -134,10 +153,15 @@ void MotionConsistencyChecker::labelAll(const std::vector<Correspondence>& track
   r->inliers = 0;
   for (std::size_t i = 0; i < tracks.size(); ++i) {
     const auto& tr = tracks[i];
-    const double e =
-        (r->metric && tr.has_point)
-            ? reprojectionError(r->R_cur_prev, r->t_cur_prev, tr.point_prev, tr.cur_normalized)
-            : epipolarError(r->R_cur_prev, r->t_cur_prev, tr.prev_normalized, tr.cur_normalized);
+    double e = 0.0;
+    if (r->metric && tr.has_point) {
+      e = reprojectionError(r->R_cur_prev, r->t_cur_prev, tr.point_prev, tr.cur_normalized);
+    } else if (r->metric) {
+      e = depthBoundedError(r->R_cur_prev, r->t_cur_prev, tr.prev_normalized, tr.cur_normalized,
+                            1.0 / min_depth_m_);
+    } else {
+      e = epipolarError(r->R_cur_prev, r->t_cur_prev, tr.prev_normalized, tr.cur_normalized);
+    }
     r->residual_px[i] = e * focal_px_;
     const bool ok = e < threshold_;
     r->labels[i] = ok ? TrackLabel::kConsistent : TrackLabel::kInconsistent;

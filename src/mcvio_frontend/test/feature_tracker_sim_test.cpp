@@ -3,6 +3,8 @@
 // which features sit on the pedestrian; those must be labelled inconsistent.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <map>
 
@@ -73,6 +75,88 @@ TEST(FeatureTrackerSim, PedestrianFeaturesAreInconsistentStaticOnesConsistent) {
   ASSERT_GE(moving_labelled, 20);
   EXPECT_GE(moving_inconsistent, 0.7 * moving_labelled);
   EXPECT_GE(static_consistent, 0.95 * static_labelled);
+}
+
+// A laptop carried in front of the rig (kSelfOcclusion) covers most of the view and moves with
+// the device: its features stand still in the image while the IMU turns and moves. The IMU says
+// which motion is the device's own, so the laptop must be the inconsistent part, not the world.
+TEST(FeatureTrackerSim, SelfOcclusionFeaturesAreInconsistent) {
+  sim::SimulatorOptions o;
+  o.duration_s = 4.5;
+  o.camera_rate_hz = 20.0;
+  o.texture_size = 512;
+  o.seed = 5;
+  o.scenario.kind = sim::ScenarioKind::kSelfOcclusion;
+  o.scenario.onset_s = 1.0;
+  o.scenario.duration_s = 3.0;
+  const sim::Simulator simulator(o);
+  FeatureTracker tracker;
+  tracker.setCalibration(simulator.calibration());
+
+  const auto& times = simulator.frameTimes();
+  const auto& imu = simulator.imu();
+  std::size_t imu_next = 0;
+  int laptop_labelled = 0, laptop_inconsistent = 0, world_labelled = 0, world_consistent = 0;
+  int conflict_frames = 0;
+  // Per laptop track: labelled frames and inconsistent ones, for "most of their life".
+  std::map<std::uint64_t, std::pair<int, int>> laptop_tracks;
+  // 0.5 s .. 4.25 s: before the laptop appears and during its stay.
+  for (std::size_t k = 10; k < 85 && k < times.size(); ++k) {
+    const sim::StereoRender render = simulator.renderFrame(k);
+    StereoInput in;
+    in.t = render.t;
+    in.left = render.cam0;
+    in.right = render.cam1;
+    while (imu_next < imu.size() && imu[imu_next].t <= in.t) in.imu.push_back(imu[imu_next++]);
+    const TrackingResult r = tracker.track(in);
+    ASSERT_TRUE(r.ok()) << r.message;
+    conflict_frames += render.label.in_conflict ? 1 : 0;
+    for (const auto& f : r.features.features) {
+      if (f.camera_index != 0 || f.label == TrackLabel::kUnknown) continue;
+      const int u = static_cast<int>(std::lround(f.pixel.x())),
+                v = static_cast<int>(std::lround(f.pixel.y()));
+      // Judge only features well inside one body: the 5x5 neighbourhood has a single id.
+      const cv::Rect box(u - 2, v - 2, 5, 5);
+      if ((box & cv::Rect(0, 0, render.cam0_body_ids.cols, render.cam0_body_ids.rows)) != box)
+        continue;
+      const cv::Mat ids = render.cam0_body_ids(box);
+      const int id = ids.at<uchar>(2, 2);
+      if (cv::countNonZero(ids != id) > 0) continue;
+      bool laptop = false;
+      for (int b : simulator.world().conflict_bodies) laptop = laptop || b == id;
+      const bool inconsistent = f.label == TrackLabel::kInconsistent;
+      if (laptop) {
+        ++laptop_labelled;
+        laptop_inconsistent += inconsistent ? 1 : 0;
+        auto& life = laptop_tracks[f.track_id];
+        ++life.first;
+        life.second += inconsistent ? 1 : 0;
+      } else {
+        ++world_labelled;
+        world_consistent += f.label == TrackLabel::kConsistent ? 1 : 0;
+      }
+    }
+  }
+  int long_tracks = 0, long_mostly_inconsistent = 0;
+  for (const auto& [id, life] : laptop_tracks) {
+    if (life.first < 5) continue;
+    ++long_tracks;
+    long_mostly_inconsistent += 2 * life.second > life.first ? 1 : 0;
+  }
+  std::printf(
+      "sim self_occlusion: %d conflict frames; laptop labels inconsistent %d/%d (%.1f%%), world "
+      "consistent %d/%d (%.1f%%); laptop tracks over 5 frames inconsistent most of their life "
+      "%d/%d\n",
+      conflict_frames, laptop_inconsistent, laptop_labelled,
+      100.0 * laptop_inconsistent / std::max(1, laptop_labelled), world_consistent, world_labelled,
+      100.0 * world_consistent / std::max(1, world_labelled), long_mostly_inconsistent,
+      long_tracks);
+  ASSERT_GT(conflict_frames, 0);
+  ASSERT_GE(laptop_labelled, 20);
+  ASSERT_GE(world_labelled, 20);
+  EXPECT_GE(laptop_inconsistent, 0.8 * laptop_labelled);
+  EXPECT_GE(world_consistent, 0.95 * world_labelled);
+  EXPECT_GE(long_mostly_inconsistent, 0.7 * long_tracks);
 }
 
 }  // namespace

@@ -93,6 +93,30 @@ TEST(MotionConsistencyChecker, MetricWithoutPrior) {
   expectLabels(s, r);
 }
 
+TEST(MotionConsistencyChecker, TracksWithoutDepthMustBeInFrontOfTheCamera) {
+  // Metric test with a third of the tracks lacking a stereo point. Some of those move along
+  // their epipolar line, but the wrong way: only a point behind the camera would do that (a
+  // device-attached object standing still while the camera turns looks like this).
+  Scenario s = makeScenario(true, 6);
+  for (std::size_t i = 0; i < s.tracks.size(); ++i) {
+    if (i % 3 != 1) continue;
+    auto& c = s.tracks[i];
+    c.has_point = false;
+    if (i % 9 != 1) continue;
+    const Eigen::Vector3d far = s.R * c.prev_normalized.homogeneous();
+    const Eigen::Vector2d a = far.head<2>() / far.z();
+    const Eigen::Vector3d nearer = far + 0.5 * s.t;  // the same ray at 2 m
+    const Eigen::Vector2d towards_near = (nearer.head<2>() / nearer.z() - a).normalized();
+    c.cur_normalized = a - towards_near * (6.0 / kFocal);
+    s.outlier[i] = true;
+  }
+  MotionConsistencyChecker checker(1.5, kFocal, 100, 8, 42, 0.1);
+  const Eigen::Matrix3d prior = s.R;
+  const auto r = checker.check(s.tracks, &prior);
+  EXPECT_TRUE(r.metric);
+  expectLabels(s, r);
+}
+
 TEST(MotionConsistencyChecker, EpipolarFallbacksWithoutStereoPoints) {
   const Scenario s = makeScenario(false, 3);
   MotionConsistencyChecker checker(1.5, kFocal, 200, 8, 42);

@@ -46,8 +46,10 @@ struct FrontendOptions {
   /// A track matched last frame whose new right point lands this close to the disparity
   /// carried over skips the left-right-left check (0 = always check) [px].
   double stereo_prediction_tolerance_px = 0.5;
-  double min_depth_m = 0.1;    ///< stereo points nearer than this are rejected
-  double max_depth_m = 200.0;  ///< ... and farther than this
+  /// Stereo points nearer than this are rejected; the motion check also assumes it as the
+  /// nearest depth of a track without a stereo point.
+  double min_depth_m = 0.1;
+  double max_depth_m = 200.0;  ///< stereo points farther than this are rejected
 
   // Geometric (motion) check
   double ransac_threshold_px = 1.5;  ///< reprojection / epipolar error for kConsistent

@@ -17,7 +17,8 @@ namespace mcvio::frontend {
 /// decides its label. This
 /// resolves what a two-view epipolar test cannot: an object translating in front of a still
 /// camera looks like camera translation to the essential matrix, never to a 3D-2D check.
-/// Tracks without depth are judged by their distance to the epipolar line of that motion.
+/// Tracks without depth are judged by their distance to the part of the epipolar line of that
+/// motion that a point at least `min_depth_m` in front of the camera can reach.
 /// With fewer than `min_tracks` stereo points the check falls back to a 2-point rotation-aided
 /// epipolar RANSAC (gyro given) or a 5-point essential-matrix RANSAC.
 class MotionConsistencyChecker {
@@ -42,9 +43,10 @@ class MotionConsistencyChecker {
   };
 
   /// @param threshold_px error limit for kConsistent [px]; @param focal_px converts to
-  /// normalised units; @param min_tracks fewer correspondences give an invalid result.
+  /// normalised units; @param min_tracks fewer correspondences give an invalid result;
+  /// @param min_depth_m nearest depth a track without a stereo point may have (metric test).
   MotionConsistencyChecker(double threshold_px, double focal_px, int iterations, int min_tracks,
-                           unsigned seed);
+                           unsigned seed, double min_depth_m = 0.1);
 
   /// @param R_cur_prev_prior camera rotation from the gyro, or nullptr.
   Result check(const std::vector<Correspondence>& tracks, const Eigen::Matrix3d* R_cur_prev_prior);
@@ -59,6 +61,7 @@ class MotionConsistencyChecker {
   double focal_px_;
   int iterations_;
   int min_tracks_;
+  double min_depth_m_;
   std::mt19937 rng_;
 };
 
