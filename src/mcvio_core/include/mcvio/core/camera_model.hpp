@@ -34,7 +34,7 @@ class CameraModel {
   using Vec3 = Eigen::Vector3d;
   using Vec4 = Eigen::Vector4d;
 
-  /// A 1x1 camera with unit focal length; only useful as a placeholder before assignment.
+  /// A 1x1 camera with unit focal length: the value of a calibration not read yet.
   CameraModel() = default;
 
   /// intrinsics = (fu, fv, cu, cv) [px]; coefficients: 4 values for radial-tangential
