@@ -16,6 +16,18 @@ cv::Mat drawTracks(const cv::Mat& image, const std::vector<TrackHistory>& tracks
     throw InputError("drawTracks: image must be mono8 or rgb8, got " +
                      cv::typeToString(image.type()));
   }
+  // A dark outline under every line and dot first, then the colours on top: without it thin
+  // green, yellow and ring marks vanish on bright or busy texture.
+  const cv::Scalar outline(0, 0, 0);
+  for (const TrackHistory& t : tracks) {
+    for (std::size_t i = 1; i < t.positions.size(); ++i) {
+      cv::line(rgb, t.positions[i - 1], t.positions[i], outline, 3, cv::LINE_AA);
+    }
+    if (!t.positions.empty()) {
+      cv::circle(rgb, t.positions.back(), t.stereo ? 4 : 3, outline, t.stereo ? -1 : 3,
+                 cv::LINE_AA);
+    }
+  }
   for (const TrackHistory& t : tracks) {
     // Colours are in RGB order because the output is rgb8.
     cv::Scalar colour(255, 210, 0);

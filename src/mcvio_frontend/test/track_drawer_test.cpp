@@ -25,6 +25,11 @@ TEST(TrackDrawer, ColoursByLabelInRgbOrder) {
   const cv::Vec3b mid = out.at<cv::Vec3b>(25, 25);
   EXPECT_GT(mid[1], 100);
   EXPECT_EQ(out.at<cv::Vec3b>(90, 10), cv::Vec3b(50, 50, 50));
+  // Dark outline just outside the red dot (whose green and blue are 0 like the outline's), so
+  // marks stay visible on bright texture; the grey background has 50 there.
+  const cv::Vec3b rim = out.at<cv::Vec3b>(50, 154);
+  EXPECT_LT(rim[1], 30);
+  EXPECT_LT(rim[2], 30);
 }
 
 TEST(TrackDrawer, RejectsOtherImageTypes) {

@@ -7,8 +7,8 @@
 namespace mcvio::frontend {
 
 /// Draws tracks over an image for RViz/Foxglove: a polyline through each track's recent
-/// positions and a dot at its current one; green = consistent, red = inconsistent,
-/// yellow = not yet judged; filled dot = stereo-matched, ring = left only.
+/// positions and a dot at its current one, all outlined in black; green = consistent,
+/// red = inconsistent, yellow = not yet judged; filled dot = stereo-matched, ring = left only.
 /// @param image mono8 or 3-channel RGB; @return rgb8 (CV_8UC3, R first) of the same size.
 /// Throws mcvio::InputError for other image types.
 cv::Mat drawTracks(const cv::Mat& image, const std::vector<TrackHistory>& tracks);
