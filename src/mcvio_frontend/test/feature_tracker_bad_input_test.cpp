@@ -162,7 +162,7 @@ TEST_F(FeatureTrackerBadInputTest, UnusableCalibrationThrows) {
   c.cam1.model = CameraModel(640, 480, {400, 400, 320, 240}, DistortionModel::kNone);
   EXPECT_THROW(tracker_.setCalibration(c), InputError);
   c = scene_->calibration();
-  c.cam0.model = CameraModel();  // placeholder: no calibration was read
+  c.cam0.model = CameraModel();  // the default 1x1 camera: no calibration was read
   EXPECT_THROW(tracker_.setCalibration(c), InputError);
   c = scene_->calibration();
   c.cam0.T_BC.linear() *= 1.5;
