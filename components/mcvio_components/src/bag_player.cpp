@@ -76,7 +76,6 @@ PlaybackSummary BagPlayer::run() {
         throw std::runtime_error("play: a lossless reader of " + m.topic + " stopped taking samples");
       }
       ++done;
-      if (m.topic.find("image") != std::string::npos) ++summary.frames;
       if (done % 20 == 0) bar.update(done, std::to_string(done) + " messages");
       summary.data_seconds = toSeconds(m.log_time - t_first);
     }

@@ -75,22 +75,11 @@ void GraphMonitor::watchNodes(Node& node) {
 }
 
 void GraphMonitor::addEndpoint(const std::array<std::uint8_t, 16>& guid, Endpoint e) {
-  std::function<void(const DiscoveredTopic&)> cb;
-  DiscoveredTopic topic;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (e.is_writer && !published_topics_seen_.count(e.dds_topic)) {
-      published_topics_seen_[e.dds_topic] = true;
-      cb = new_topic_callback_;
-      topic = describe(e.dds_topic, e.dds_type);
-      topic.type_hash = e.type_hash;
-      topic.publishers = 1;
-      topic.publisher_qos.push_back(e.qos);
-    }
     endpoints_[guid] = std::move(e);
   }
   changed_.notify_all();
-  if (cb) cb(topic);
 }
 
 void GraphMonitor::removeEndpoint(const std::array<std::uint8_t, 16>& guid) {
@@ -189,17 +178,6 @@ std::vector<DiscoveredNode> GraphMonitor::nodes() const {
   for (const auto& [prefix, list] : nodes_) out.insert(out.end(), list.begin(), list.end());
   std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.fullName() < b.fullName(); });
   return out;
-}
-
-void GraphMonitor::onNewPublishedTopic(std::function<void(const DiscoveredTopic&)> callback) {
-  std::vector<DiscoveredTopic> existing;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    new_topic_callback_ = callback;
-  }
-  for (const auto& t : topics()) {
-    if (t.publishers > 0) callback(t);
-  }
 }
 
 bool GraphMonitor::waitFor(const std::function<bool(const std::vector<DiscoveredTopic>&)>& pred,

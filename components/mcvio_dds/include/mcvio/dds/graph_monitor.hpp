@@ -44,7 +44,8 @@ struct DiscoveredNode {
 
 /// Watches discovery: every remote (and local) writer and reader, and every participant's
 /// ros_discovery_info, so commands can list topics and nodes and the recorder can subscribe to
-/// topics as they appear. Pass it to Participant::create() so it sees discovery from the start.
+/// topics as they appear (it polls topics(): entities must not be created on discovery threads).
+/// Pass it to Participant::create() so it sees discovery from the start.
 class GraphMonitor : public eprosima::fastdds::dds::DomainParticipantListener {
  public:
   GraphMonitor();
@@ -55,8 +56,6 @@ class GraphMonitor : public eprosima::fastdds::dds::DomainParticipantListener {
 
   std::vector<DiscoveredTopic> topics() const;
   std::vector<DiscoveredNode> nodes() const;
-  /// Called (on a Fast DDS thread) whenever a writer of a topic not seen before appears.
-  void onNewPublishedTopic(std::function<void(const DiscoveredTopic&)> callback);
   /// Waits until `pred(topics())` holds or the timeout passes.
   bool waitFor(const std::function<bool(const std::vector<DiscoveredTopic>&)>& pred, std::chrono::milliseconds timeout);
 
@@ -82,8 +81,6 @@ class GraphMonitor : public eprosima::fastdds::dds::DomainParticipantListener {
   std::condition_variable changed_;
   std::map<std::array<std::uint8_t, 16>, Endpoint> endpoints_;
   std::map<std::array<std::uint8_t, 12>, std::vector<DiscoveredNode>> nodes_;  // by participant prefix
-  std::map<std::string, bool> published_topics_seen_;
-  std::function<void(const DiscoveredTopic&)> new_topic_callback_;
   std::unique_ptr<ReaderEndpoint> discovery_subscription_;
 };
 
