@@ -65,19 +65,7 @@ SimulatorOptions SimulatorOptions::fromYaml(const YAML::Node& node) {
 }
 
 SimulatorOptions SimulatorOptions::fromYamlFile(const std::string& path) {
-  YAML::Node node;
-  try {
-    node = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw InputError(path + ": cannot open options file");
-  } catch (const YAML::Exception& e) {
-    throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
-  }
-  try {
-    return fromYaml(node);
-  } catch (const InputError& e) {
-    throw InputError(path + ": " + e.what());
-  }
+  return detail::loadOptionsFile(path, [](const YAML::Node& node) { return fromYaml(node); });
 }
 
 void SimulatorOptions::validate() const {

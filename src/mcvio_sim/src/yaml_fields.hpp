@@ -74,4 +74,23 @@ class YamlFields {
   std::set<std::string> known_;
 };
 
+/// Loads an options file and parses it with `parse` (an Options::fromYaml); every error names the
+/// file, and YAML syntax errors also the line.
+template <class Parse>
+auto loadOptionsFile(const std::string& path, Parse parse) {
+  YAML::Node node;
+  try {
+    node = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw InputError(path + ": cannot open options file");
+  } catch (const YAML::Exception& e) {
+    throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  try {
+    return parse(node);
+  } catch (const InputError& e) {
+    throw InputError(path + ": " + e.what());
+  }
+}
+
 }  // namespace mcvio::sim::detail
