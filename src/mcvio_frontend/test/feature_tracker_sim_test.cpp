@@ -14,26 +14,25 @@
 namespace mcvio::frontend {
 namespace {
 
-TEST(FeatureTrackerSim, PedestrianFeaturesAreInconsistentStaticOnesConsistent) {
-  sim::SimulatorOptions o;
-  o.duration_s = 6.0;
-  o.camera_rate_hz = 20.0;
-  o.texture_size = 512;
-  o.seed = 3;
-  o.scenario.kind = sim::ScenarioKind::kPedestrian;
-  o.scenario.onset_s = 1.0;
-  o.scenario.duration_s = 4.0;
-  const sim::Simulator simulator(o);
+// What the tracker's labels said about the features of a rendered scenario, judged by the
+// rendering's per-pixel body ids.
+struct ScenarioLabels {
+  int conflict_frames = 0;
+  int min_stereo = 1 << 30;
+  int moving_labelled = 0, moving_inconsistent = 0;  // features on a conflicting body
+  int static_labelled = 0, static_consistent = 0;    // features on the static world
+  /// Per track on a conflicting body: labelled frames and inconsistent ones.
+  std::map<std::uint64_t, std::pair<int, int>> moving_tracks;
+};
+
+// Tracks frames [first, last) of the simulation, feeding the IMU up to each frame's time.
+void trackScenario(const sim::Simulator& simulator, std::size_t first, std::size_t last, ScenarioLabels* out) {
   FeatureTracker tracker;
   tracker.setCalibration(simulator.calibration());
-
   const auto& times = simulator.frameTimes();
   const auto& imu = simulator.imu();
   std::size_t imu_next = 0;
-  int moving_labelled = 0, moving_inconsistent = 0, static_labelled = 0, static_consistent = 0;
-  int min_stereo = 1 << 30, conflict_frames = 0;
-  // 0.5 s .. 5.5 s: before, during and after the walk.
-  for (std::size_t k = 10; k < 110 && k < times.size(); ++k) {
+  for (std::size_t k = first; k < last && k < times.size(); ++k) {
     const sim::StereoRender render = simulator.renderFrame(k);
     StereoInput in;
     in.t = render.t;
@@ -42,8 +41,8 @@ TEST(FeatureTrackerSim, PedestrianFeaturesAreInconsistentStaticOnesConsistent) {
     while (imu_next < imu.size() && imu[imu_next].t <= in.t) in.imu.push_back(imu[imu_next++]);
     const TrackingResult r = tracker.track(in);
     ASSERT_TRUE(r.ok()) << r.message;
-    min_stereo = std::min(min_stereo, r.stats.stereo_matched);
-    conflict_frames += render.label.in_conflict ? 1 : 0;
+    out->min_stereo = std::min(out->min_stereo, r.stats.stereo_matched);
+    out->conflict_frames += render.label.in_conflict ? 1 : 0;
     for (const auto& f : r.features.features) {
       if (f.camera_index != 0 || f.label == TrackLabel::kUnknown) continue;
       const int u = static_cast<int>(std::lround(f.pixel.x())),
@@ -57,15 +56,38 @@ TEST(FeatureTrackerSim, PedestrianFeaturesAreInconsistentStaticOnesConsistent) {
       if (cv::countNonZero(ids != id) > 0) continue;
       bool moving = false;
       for (int b : simulator.world().conflict_bodies) moving = moving || b == id;
+      const bool inconsistent = f.label == TrackLabel::kInconsistent;
       if (moving) {
-        ++moving_labelled;
-        moving_inconsistent += f.label == TrackLabel::kInconsistent ? 1 : 0;
+        ++out->moving_labelled;
+        out->moving_inconsistent += inconsistent ? 1 : 0;
+        auto& life = out->moving_tracks[f.track_id];
+        ++life.first;
+        life.second += inconsistent ? 1 : 0;
       } else {
-        ++static_labelled;
-        static_consistent += f.label == TrackLabel::kConsistent ? 1 : 0;
+        ++out->static_labelled;
+        out->static_consistent += f.label == TrackLabel::kConsistent ? 1 : 0;
       }
     }
   }
+}
+
+TEST(FeatureTrackerSim, PedestrianFeaturesAreInconsistentStaticOnesConsistent) {
+  sim::SimulatorOptions o;
+  o.duration_s = 6.0;
+  o.camera_rate_hz = 20.0;
+  o.texture_size = 512;
+  o.seed = 3;
+  o.scenario.kind = sim::ScenarioKind::kPedestrian;
+  o.scenario.onset_s = 1.0;
+  o.scenario.duration_s = 4.0;
+  const sim::Simulator simulator(o);
+  ScenarioLabels l;
+  // 0.5 s .. 5.5 s: before, during and after the walk.
+  trackScenario(simulator, 10, 110, &l);
+  if (HasFatalFailure()) return;
+  const int conflict_frames = l.conflict_frames, min_stereo = l.min_stereo;
+  const int moving_labelled = l.moving_labelled, moving_inconsistent = l.moving_inconsistent;
+  const int static_labelled = l.static_labelled, static_consistent = l.static_consistent;
   std::printf(
       "sim pedestrian: %d conflict frames; pedestrian labels inconsistent %d/%d, static consistent "
       "%d/%d, min stereo %d\n",
@@ -90,53 +112,14 @@ TEST(FeatureTrackerSim, SelfOcclusionFeaturesAreInconsistent) {
   o.scenario.onset_s = 1.0;
   o.scenario.duration_s = 3.0;
   const sim::Simulator simulator(o);
-  FeatureTracker tracker;
-  tracker.setCalibration(simulator.calibration());
-
-  const auto& times = simulator.frameTimes();
-  const auto& imu = simulator.imu();
-  std::size_t imu_next = 0;
-  int laptop_labelled = 0, laptop_inconsistent = 0, world_labelled = 0, world_consistent = 0;
-  int conflict_frames = 0;
-  // Per laptop track: labelled frames and inconsistent ones, for "most of their life".
-  std::map<std::uint64_t, std::pair<int, int>> laptop_tracks;
+  ScenarioLabels l;
   // 0.5 s .. 4.25 s: before the laptop appears and during its stay.
-  for (std::size_t k = 10; k < 85 && k < times.size(); ++k) {
-    const sim::StereoRender render = simulator.renderFrame(k);
-    StereoInput in;
-    in.t = render.t;
-    in.left = render.cam0;
-    in.right = render.cam1;
-    while (imu_next < imu.size() && imu[imu_next].t <= in.t) in.imu.push_back(imu[imu_next++]);
-    const TrackingResult r = tracker.track(in);
-    ASSERT_TRUE(r.ok()) << r.message;
-    conflict_frames += render.label.in_conflict ? 1 : 0;
-    for (const auto& f : r.features.features) {
-      if (f.camera_index != 0 || f.label == TrackLabel::kUnknown) continue;
-      const int u = static_cast<int>(std::lround(f.pixel.x())),
-                v = static_cast<int>(std::lround(f.pixel.y()));
-      // Judge only features well inside one body: the 5x5 neighbourhood has a single id.
-      const cv::Rect box(u - 2, v - 2, 5, 5);
-      if ((box & cv::Rect(0, 0, render.cam0_body_ids.cols, render.cam0_body_ids.rows)) != box)
-        continue;
-      const cv::Mat ids = render.cam0_body_ids(box);
-      const int id = ids.at<uchar>(2, 2);
-      if (cv::countNonZero(ids != id) > 0) continue;
-      bool laptop = false;
-      for (int b : simulator.world().conflict_bodies) laptop = laptop || b == id;
-      const bool inconsistent = f.label == TrackLabel::kInconsistent;
-      if (laptop) {
-        ++laptop_labelled;
-        laptop_inconsistent += inconsistent ? 1 : 0;
-        auto& life = laptop_tracks[f.track_id];
-        ++life.first;
-        life.second += inconsistent ? 1 : 0;
-      } else {
-        ++world_labelled;
-        world_consistent += f.label == TrackLabel::kConsistent ? 1 : 0;
-      }
-    }
-  }
+  trackScenario(simulator, 10, 85, &l);
+  if (HasFatalFailure()) return;
+  const int conflict_frames = l.conflict_frames;
+  const int laptop_labelled = l.moving_labelled, laptop_inconsistent = l.moving_inconsistent;
+  const int world_labelled = l.static_labelled, world_consistent = l.static_consistent;
+  const auto& laptop_tracks = l.moving_tracks;
   int long_tracks = 0, long_mostly_inconsistent = 0;
   for (const auto& [id, life] : laptop_tracks) {
     if (life.first < 5) continue;
