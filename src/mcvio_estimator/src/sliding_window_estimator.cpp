@@ -66,6 +66,18 @@ const char* toString(EstimatorStatus status) {
   return "unknown";
 }
 
+const char* toString(ConflictReport::State state) {
+  switch (state) {
+    case ConflictReport::State::kNone:
+      return "none";
+    case ConflictReport::State::kSuspected:
+      return "suspected";
+    case ConflictReport::State::kConflict:
+      return "conflict";
+  }
+  return "unknown";
+}
+
 SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options, const Eigen::Isometry3d& T_BC0,
                                                const Eigen::Isometry3d& T_BC1, double focal_length_px,
                                                const ImuNoiseParams& imu_noise)

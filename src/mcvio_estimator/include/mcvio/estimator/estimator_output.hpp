@@ -30,6 +30,29 @@ struct EstimatorTimings {
   double cpu_total_ms = 0;       ///< CPU time of the calling thread in addFrame()
 };
 
+/// Per-frame motion-conflict statistics (published as mcvio_msgs/MotionConflict, written to
+/// OUT/conflict.csv). Filled in every mode; only the resolution depends on the mode.
+struct ConflictReport {
+  enum class State : std::uint8_t { kNone = 0, kSuspected = 1, kConflict = 2 };
+  State state = State::kNone;
+  double propagated_chi2 = 0;       ///< IMU-propagated vs vision-only relative pose, 6 dof
+  double propagated_threshold = 0;
+  int landmarks_tested = 0;         ///< landmark detector: tracks checked under the IMU prediction
+  int landmarks_inconsistent = 0;
+  double inconsistent_fraction = 0;
+  double coherence = 0;             ///< share of the disagreeing group that one rigid motion explains
+  Timestamp interval_start = 0;     ///< start of the current or last conflict interval; 0 if none
+  std::string resolution_mode = "reference";  ///< the mode that acted on this frame
+  /// The conflicting group's frame S (cabin, vehicle, carried object) in the world: identity at
+  /// the interval start, then its rigid motion; valid only while a coherent group is tracked.
+  bool secondary_valid = false;
+  Eigen::Vector3d p_WS = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond q_WS = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d v_WS = Eigen::Vector3d::Zero();
+};
+
+const char* toString(ConflictReport::State state);
+
 /// The estimator's answer for one frame.
 struct EstimatorOutput {
   Timestamp t = 0;
@@ -58,6 +81,7 @@ struct EstimatorOutput {
   int num_outliers = 0;             ///< observations dropped after the solve
   int solver_iterations = 0;
   EstimatorTimings timings;
+  ConflictReport conflict;
   std::string message;              ///< warnings about this frame's input, reset reasons
 };
 
