@@ -84,6 +84,7 @@ void EstimatorOptions::validate() const {
   require(max_accel_bias > 0, "max_accel_bias", "must be > 0", max_accel_bias);
   require(max_position_jump_m > 0, "max_position_jump_m", "must be > 0", max_position_jump_m);
   require(max_time_without_vision_s > 0, "max_time_without_vision_s", "must be > 0", max_time_without_vision_s);
+  conflict.validate();
 }
 
 EstimatorOptions EstimatorOptions::fromYaml(const YAML::Node& node, const std::string& context) {
@@ -91,7 +92,8 @@ EstimatorOptions EstimatorOptions::fromYaml(const YAML::Node& node, const std::s
   if (!node || node.IsNull()) return o;
   if (!node.IsMap()) throw InputError(context + ": estimator options must be a YAML map");
   const auto& c = context;
-  std::set<std::string> known{"robust_loss"};
+  std::set<std::string> known{"robust_loss", "conflict"};
+  if (node["conflict"]) o.conflict = conflict::ConflictOptions::fromYaml(node["conflict"], context);
   g_known_keys = &known;
   read(node, "imu_window_size", &o.imu_window_size, c);
   read(node, "keyframe_window_size", &o.keyframe_window_size, c);

@@ -96,6 +96,13 @@ SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options, 
     loss_ = std::make_unique<ceres::HuberLoss>(scale);
   else if (options_.robust_loss == RobustLoss::kCauchy)
     loss_ = std::make_unique<ceres::CauchyLoss>(scale);
+  bias_hold_manifold_ = std::make_unique<ceres::SubsetManifold>(9, std::vector<int>{3, 4, 5, 6, 7, 8});
+  conflict::RigGeometry geometry;
+  geometry.T_BC0 = T_BC0_;
+  geometry.T_BC1 = T_BC1_;
+  geometry.focal_px = focal_px_;
+  monitor_ = std::make_unique<MotionConflictMonitor>(options_.conflict, geometry, imu_noise_, gravity_,
+                                                     options_.min_depth_m, options_.max_depth_m);
 }
 
 SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options, const StereoRigCalibration& rig)
@@ -199,6 +206,8 @@ EstimatorOutput SlidingWindowEstimator::addFrame(const FeatureFrame& input) {
     solve(&out);
     if (options_.compute_covariance) computeCovariance(&out);
     fillState(&out);
+    out.conflict = monitor_->process(input.t, newest().cam0, newest().cam1, {}, imu_).report;
+    commitToMonitor(&out);
     out.status = EstimatorStatus::kTracking;
     out.frame_accepted = true;
     out.message = msg.str();
@@ -244,6 +253,8 @@ EstimatorOutput SlidingWindowEstimator::addFrame(const FeatureFrame& input) {
       solve(&r);
       if (options_.compute_covariance) computeCovariance(&r);
       fillState(&r);
+      r.conflict = monitor_->process(input.t, newest().cam0, newest().cam1, {}, imu_).report;
+      commitToMonitor(&r);
       r.frame_accepted = true;
       last_good_p_ = r.p_WB;
       last_good_yaw_ = yawOf(r.q_WB);
@@ -261,7 +272,7 @@ EstimatorOutput SlidingWindowEstimator::addFrame(const FeatureFrame& input) {
                           Eigen::Map<const Eigen::Vector3d>(prev.sb.data() + 6)};
   auto pre = std::make_unique<ImuPreintegrator>(prev_bias, imu_noise_);
   for (const auto& s : samples) pre->integrate(s);
-  Eigen::Vector3d p_pred, v_pred;
+  Eigen::Vector3d p_pred, v_pred;  // p_pred: the failure check's reference
   Eigen::Quaterniond q_pred;
   pre->predict(Eigen::Map<const Eigen::Vector3d>(prev.pose.data()), Eigen::Map<const Eigen::Quaterniond>(prev.pose.data() + 3),
                Eigen::Map<const Eigen::Vector3d>(prev.sb.data()), prev_bias, gravity_, &p_pred, &q_pred, &v_pred);
@@ -271,15 +282,23 @@ EstimatorOutput SlidingWindowEstimator::addFrame(const FeatureFrame& input) {
   Eigen::Map<Eigen::Vector3d>(frame->sb.data()) = v_pred;
   for (int i = 3; i < 9; ++i) frame->sb[static_cast<std::size_t>(i)] = prev.sb[static_cast<std::size_t>(i)];
   frame->imu = std::move(pre);
-  Frame* prev_ptr = &prev;
   frames_.push_back(std::move(frame));
   out.timings.preintegration_ms = msSince(t_stage);
 
   t_stage = Clock::now();
   Frame& cur = newest();
+  std::unordered_set<std::uint64_t> labelled_inconsistent;
+  for (const auto& o : input.features)
+    if (o.camera_index == 0 && o.label == TrackLabel::kInconsistent) labelled_inconsistent.insert(o.track_id);
+  const auto decision = monitor_->process(input.t, cur.cam0, cur.cam1, labelled_inconsistent, imu_);
+  out.conflict = decision.report;
+  applyConflictDecision(decision, cur);
+  if (decision.rewind) p_pred = decision.rewind_state.p;
+  out.timings.conflict_ms = msSince(t_stage);
   createLandmarks(cur, &out.num_new_landmarks);
   cur.keyframe = decideKeyframe(cur);
-  cur.zero_velocity = options_.zero_velocity_enabled && detectZeroVelocity(*prev_ptr, cur);
+  cur.zero_velocity = options_.zero_velocity_enabled && !decision.suppress_zero_velocity && frames_.size() >= 2 &&
+                      detectZeroVelocity(*frames_[frames_.size() - 2], cur);
   repropagateImu();
   out.timings.setup_ms = msSince(t_stage);
 
@@ -295,10 +314,12 @@ EstimatorOutput SlidingWindowEstimator::addFrame(const FeatureFrame& input) {
   if (options_.compute_covariance) computeCovariance(&out);
   out.timings.covariance_ms = msSince(t_stage);
   fillState(&out);
+  commitToMonitor(&out);
   t_stage = Clock::now();
   marginalize();
   out.timings.marginalization_ms = msSince(t_stage);
-  imu_.dropBefore(input.t - fromSeconds(options_.init_window_s + 0.1));
+  imu_.dropBefore(std::min(input.t - fromSeconds(options_.init_window_s + 0.1),
+                           monitor_->oldestTimeNeeded() - fromSeconds(0.1)));
 
   out.status = EstimatorStatus::kTracking;
   out.frame_accepted = true;
@@ -410,7 +431,7 @@ bool SlidingWindowEstimator::triangulateStereo(const Eigen::Vector2d& n0, const 
 
 void SlidingWindowEstimator::createLandmarks(Frame& frame, int* created) {
   for (const auto& [track, n0] : frame.cam0) {
-    if (landmarks_.count(track) != 0) continue;
+    if (landmarks_.count(track) != 0 || monitor_->isEliminated(track)) continue;
     const auto it = frame.cam1.find(track);
     if (it == frame.cam1.end()) continue;
     double depth = 0;
@@ -518,7 +539,10 @@ void SlidingWindowEstimator::solve(EstimatorOutput* out) {
 
   for (auto& f : frames_) {
     problem.AddParameterBlock(f->pose.data(), 7, &pose_manifold_);
-    if (f->has_speed_bias) problem.AddParameterBlock(f->sb.data(), 9);
+    if (f->has_speed_bias) {
+      problem.AddParameterBlock(f->sb.data(), 9);
+      if (f->bias_held) problem.SetManifold(f->sb.data(), bias_hold_manifold_.get());
+    }
   }
   if (prior_) {
     auto* cost = new MarginalizationFactor(prior_);
@@ -654,7 +678,7 @@ std::string SlidingWindowEstimator::checkFailure(const Eigen::Vector3d& p_pred) 
   else if (ba.norm() > options_.max_accel_bias) os << "accel bias " << ba.norm() << " m/s^2 exceeds max_accel_bias";
   else if ((p - p_pred).norm() > options_.max_position_jump_m)
     os << "position moved " << (p - p_pred).norm() << " m away from the IMU prediction (max_position_jump_m)";
-  else if (toSeconds(f.t - last_vision_t_) > options_.max_time_without_vision_s)
+  else if (!monitor_->imuDominated() && toSeconds(f.t - last_vision_t_) > options_.max_time_without_vision_s)
     os << "no visual constraints for " << toSeconds(f.t - last_vision_t_) << " s";
   return os.str();
 }
@@ -818,7 +842,76 @@ void SlidingWindowEstimator::reset(const std::string& reason) {
   landmarks_.clear();
   prior_.reset();
   initialized_ = false;
+  monitor_->reset();
   ++reset_count_;
+}
+
+void SlidingWindowEstimator::commitToMonitor(EstimatorOutput* out) {
+  MotionConflictMonitor::State s;
+  s.p = out->p_WB;
+  s.q = out->q_WB;
+  s.v = out->v_WB;
+  s.bias = out->bias;
+  monitor_->commit(s, &out->conflict);
+}
+
+void SlidingWindowEstimator::applyConflictDecision(const MotionConflictMonitor::Decision& decision, Frame& cur) {
+  for (const auto id : decision.eliminate) eraseLandmark(id);
+  if (decision.rewind) restartFrom(cur, decision.rewind_state, toSeconds(cur.t - decision.rewind_t));
+  if (!decision.imu_dominated) return;
+  // A conflicting camera must neither move the state nor bend the biases.
+  landmarks_.clear();
+  for (auto& f : frames_) {
+    f->cam0.clear();
+    f->cam1.clear();
+  }
+  Eigen::Map<Eigen::Vector3d>(cur.sb.data() + 3) = decision.held_bias.gyro;
+  Eigen::Map<Eigen::Vector3d>(cur.sb.data() + 6) = decision.held_bias.accel;
+  cur.bias_held = true;
+  last_vision_t_ = cur.t;
+}
+
+void SlidingWindowEstimator::restartFrom(Frame& cur, const MotionConflictMonitor::State& state,
+                                         double dt_since_estimate) {
+  Eigen::Map<Eigen::Vector3d>(cur.pose.data()) = state.p;
+  Eigen::Map<Eigen::Quaterniond>(cur.pose.data() + 3) = state.q.normalized();
+  Eigen::Map<Eigen::Vector3d>(cur.sb.data()) = state.v;
+  Eigen::Map<Eigen::Vector3d>(cur.sb.data() + 3) = state.bias.gyro;
+  Eigen::Map<Eigen::Vector3d>(cur.sb.data() + 6) = state.bias.accel;
+  cur.imu.reset();
+  cur.keyframe = true;
+  cur.has_speed_bias = true;
+  std::unique_ptr<Frame> keep = std::move(frames_.back());
+  records_.clear();
+  extra_costs_.clear();
+  problem_.reset();
+  frames_.clear();
+  frames_.push_back(std::move(keep));
+  landmarks_.clear();
+  const auto& c = options_.conflict;
+  Eigen::Matrix<double, 15, 1> sigmas;
+  const double sp = 0.01 + c.velocity_sigma_mps * dt_since_estimate;
+  sigmas << sp, sp, sp, c.attitude_sigma_rad, c.attitude_sigma_rad, c.attitude_sigma_rad, c.velocity_sigma_mps,
+      c.velocity_sigma_mps, c.velocity_sigma_mps, c.gyro_bias_sigma, c.gyro_bias_sigma, c.gyro_bias_sigma,
+      c.accel_bias_sigma, c.accel_bias_sigma, c.accel_bias_sigma;
+  setStatePrior(cur, sigmas);
+  spdlog::info("{}motion conflict at t={} ns: IMU-dominated from the state {:.2f} s back, biases held", kLog, cur.t,
+               dt_since_estimate);
+}
+
+void SlidingWindowEstimator::setStatePrior(Frame& frame, const Eigen::Matrix<double, 15, 1>& sigmas) {
+  prior_ = std::make_shared<MarginalizationPrior>();
+  prior_->blocks.push_back({frame.pose.data(), BlockKind::kPose, 7, 6, {frame.pose.begin(), frame.pose.end()}});
+  prior_->blocks.push_back({frame.sb.data(), BlockKind::kEuclidean, 9, 9, {frame.sb.begin(), frame.sb.end()}});
+  const Eigen::Matrix3d R = Eigen::Map<const Eigen::Quaterniond>(frame.pose.data() + 3).toRotationMatrix();
+  prior_->J = Eigen::MatrixXd::Zero(15, 15);
+  prior_->J.block<3, 3>(0, 0) = sigmas.segment<3>(0).cwiseInverse().asDiagonal();
+  // World-frame attitude error from the body-frame perturbation: dtheta_W = R_WB dtheta_B.
+  prior_->J.block<3, 3>(3, 3) = sigmas.segment<3>(3).cwiseInverse().asDiagonal() * R;
+  prior_->J.block<3, 3>(6, 6) = sigmas.segment<3>(6).cwiseInverse().asDiagonal();
+  prior_->J.block<3, 3>(9, 9) = sigmas.segment<3>(9).cwiseInverse().asDiagonal();
+  prior_->J.block<3, 3>(12, 12) = sigmas.segment<3>(12).cwiseInverse().asDiagonal();
+  prior_->r = Eigen::VectorXd::Zero(15);
 }
 
 }  // namespace mcvio::estimator

@@ -1,6 +1,8 @@
 #pragma once
 #include <string>
 
+#include "mcvio/conflict/conflict_options.hpp"
+
 namespace YAML {
 class Node;
 }
@@ -76,6 +78,10 @@ struct EstimatorOptions {
   double max_accel_bias = 2.0;               ///< [m/s^2]
   double max_position_jump_m = 1.0;          ///< optimised vs IMU-predicted position of the newest frame
   double max_time_without_vision_s = 3.0;    ///< IMU-only propagation longer than this resets
+                                             ///< (not inside an IMU-dominated conflict interval)
+
+  /// Motion-conflict detection and resolution (YAML section `conflict:`; mode `reference` by default).
+  conflict::ConflictOptions conflict;
 
   /// Throws mcvio::InputError naming the key when a value is out of range.
   void validate() const;

@@ -22,6 +22,7 @@ const char* toString(EstimatorStatus status);
 /// Wall-clock cost of one frame, by stage [ms].
 struct EstimatorTimings {
   double preintegration_ms = 0;
+  double conflict_ms = 0;        ///< motion-conflict detectors and resolution bookkeeping
   double setup_ms = 0;           ///< landmark bookkeeping and building the Ceres problem
   double solve_ms = 0;
   double marginalization_ms = 0;

@@ -19,11 +19,13 @@
 #include "mcvio/estimator/imu_buffer.hpp"
 #include "mcvio/estimator/imu_preintegrator.hpp"
 #include "mcvio/estimator/marginalization_prior.hpp"
+#include "mcvio/estimator/motion_conflict_monitor.hpp"
 #include "mcvio/estimator/pose_manifold.hpp"
 
 namespace ceres {
 class LossFunction;
 class CostFunction;
+class Manifold;
 }  // namespace ceres
 
 namespace mcvio::estimator {
@@ -81,6 +83,7 @@ class SlidingWindowEstimator {
     bool keyframe = false;
     bool has_speed_bias = true;    ///< in the IMU window
     bool zero_velocity = false;
+    bool bias_held = false;        ///< inside an IMU-dominated conflict: biases fixed at the held value
     std::unique_ptr<ImuPreintegrator> imu;  ///< from the previous frame, while both are in the IMU window
     std::unordered_map<std::uint64_t, Eigen::Vector2d> cam0, cam1;  ///< track -> normalised coords
   };
@@ -114,6 +117,11 @@ class SlidingWindowEstimator {
   void solve(EstimatorOutput* out);
   void removeOutliers(EstimatorOutput* out);
   std::string checkFailure(const Eigen::Vector3d& p_pred) const;
+  /// Restarts the window from a single frame with the given state (IMU-dominated rewind).
+  void restartFrom(Frame& cur, const MotionConflictMonitor::State& state, double dt_since_estimate);
+  void setStatePrior(Frame& frame, const Eigen::Matrix<double, 15, 1>& sigmas);
+  void applyConflictDecision(const MotionConflictMonitor::Decision& decision, Frame& cur);
+  void commitToMonitor(EstimatorOutput* out);
   void computeCovariance(EstimatorOutput* out);
   void marginalize();
   void marginalizeOldestImuFrame();
@@ -131,6 +139,8 @@ class SlidingWindowEstimator {
   Eigen::Vector3d gravity_;
   PoseManifold pose_manifold_;
   std::unique_ptr<ceres::LossFunction> loss_;
+  std::unique_ptr<ceres::Manifold> bias_hold_manifold_;  ///< velocity free, biases constant
+  std::unique_ptr<MotionConflictMonitor> monitor_;
 
   ImuBuffer imu_;
   std::deque<std::unique_ptr<Frame>> frames_;

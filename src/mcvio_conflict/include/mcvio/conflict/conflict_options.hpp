@@ -1,0 +1,71 @@
+#pragma once
+#include <string>
+
+namespace YAML {
+class Node;
+}
+
+namespace mcvio::conflict {
+
+/// How the backend answers a detected motion conflict (DESIGN.md "The algorithm").
+enum class ResolutionMode {
+  kReference,  ///< detect and report only; the reference VIO is unchanged
+  kImu,        ///< IMU-dominated: drop conflicting visual residuals, hold the biases
+  kSelective,  ///< eliminate the landmarks that move, keep the static ones
+  kAuto,       ///< selective while enough static landmarks remain, IMU-dominated otherwise
+};
+
+const char* toString(ResolutionMode mode);
+/// "reference", "imu", "selective" or "auto"; throws mcvio::InputError naming `context` otherwise.
+ResolutionMode resolutionModeFromString(const std::string& text, const std::string& context = "conflict mode");
+
+/// Options of motion-conflict detection and resolution. Every key is optional in YAML (section
+/// `conflict:` of the estimator options); unknown keys are errors.
+struct ConflictOptions {
+  ResolutionMode mode = ResolutionMode::kReference;
+
+  // --- detection -------------------------------------------------------------------------
+  /// Frames between the reference frame r and the current frame k. Over a longer horizon a
+  /// conflicting acceleration moves the IMU prediction further from vision (grows with dt^2),
+  /// while noise grows more slowly.
+  int horizon_frames = 10;
+  double observation_sigma_px = 1.0;   ///< pixel noise of a tracked feature
+  double stereo_sigma_px = 0.5;        ///< disparity noise, for the stereo depth uncertainty
+  /// Uncertainty of the estimated velocity and attitude at r and of the biases; they spread the
+  /// IMU prediction over the horizon.
+  double velocity_sigma_mps = 0.03;
+  double attitude_sigma_rad = 0.01;
+  double accel_bias_sigma = 0.05;      ///< [m/s^2]
+  double gyro_bias_sigma = 0.002;      ///< [rad/s]
+  /// Propagated-state detector: 6-dof chi-square threshold on IMU-vs-vision relative motion.
+  double propagated_chi2_threshold = 40.0;
+  /// Landmark detector: 2-dof chi-square threshold on a normalised reprojection residual.
+  double landmark_chi2_threshold = 13.8;
+  int min_landmarks_tested = 12;       ///< fewer: the landmark detector abstains
+  /// A partial conflict needs at least this many disagreeing landmarks, this share of those
+  /// tested, and this share of the group explained by one rigid motion.
+  int partial_min_count = 8;
+  double partial_min_fraction = 0.08;
+  double min_coherence = 0.6;
+  double coherence_sigma_m = 0.02;     ///< 3D tolerance floor of the rigid-motion fit
+  /// Above this share of disagreeing landmarks the conflict covers the whole view.
+  double whole_view_fraction = 0.6;
+  int enter_frames = 2;                ///< consecutive frames with evidence to open an interval
+  int exit_frames = 10;                ///< consecutive clean frames to close it
+
+  // --- resolution ------------------------------------------------------------------------
+  /// Selective: disagreeing verdicts (net of agreeing ones) before a track is eliminated.
+  int selective_strikes = 2;
+  /// Selective: the frontend's inconsistent label counts as a disagreeing verdict.
+  bool use_frontend_labels = true;
+  /// Auto: selective needs this many landmarks left that agree with the IMU.
+  int auto_min_static_landmarks = 25;
+  /// IMU-dominated: at the start of an interval go back to the state before the first evidence
+  /// and propagate it with the IMU, so vision seen during the detection delay is undone.
+  bool rewind_on_entry = true;
+
+  void validate() const;
+  static ConflictOptions fromYaml(const YAML::Node& node, const std::string& context = "conflict options");
+};
+
+}  // namespace mcvio::conflict

@@ -1,0 +1,119 @@
+#include "mcvio/conflict/conflict_options.hpp"
+
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include <yaml-cpp/yaml.h>
+
+#include "mcvio/core/input_error.hpp"
+
+namespace mcvio::conflict {
+
+const char* toString(ResolutionMode mode) {
+  switch (mode) {
+    case ResolutionMode::kReference:
+      return "reference";
+    case ResolutionMode::kImu:
+      return "imu";
+    case ResolutionMode::kSelective:
+      return "selective";
+    case ResolutionMode::kAuto:
+      return "auto";
+  }
+  return "unknown";
+}
+
+ResolutionMode resolutionModeFromString(const std::string& text, const std::string& context) {
+  for (auto m : {ResolutionMode::kReference, ResolutionMode::kImu, ResolutionMode::kSelective, ResolutionMode::kAuto})
+    if (text == toString(m)) return m;
+  throw InputError(context + ": unknown mode '" + text + "' (expected reference, imu, selective or auto)");
+}
+
+namespace {
+
+void require(bool ok, const char* key, const std::string& what, double value) {
+  if (ok && std::isfinite(value)) return;
+  std::ostringstream os;
+  os << "conflict option '" << key << "' " << what << " (got " << value << ")";
+  throw InputError(os.str());
+}
+
+}  // namespace
+
+void ConflictOptions::validate() const {
+  require(horizon_frames >= 1 && horizon_frames <= 100, "horizon_frames", "must be in [1, 100]", horizon_frames);
+  require(observation_sigma_px > 0, "observation_sigma_px", "must be > 0", observation_sigma_px);
+  require(stereo_sigma_px > 0, "stereo_sigma_px", "must be > 0", stereo_sigma_px);
+  require(velocity_sigma_mps > 0, "velocity_sigma_mps", "must be > 0", velocity_sigma_mps);
+  require(attitude_sigma_rad > 0, "attitude_sigma_rad", "must be > 0", attitude_sigma_rad);
+  require(accel_bias_sigma > 0, "accel_bias_sigma", "must be > 0", accel_bias_sigma);
+  require(gyro_bias_sigma > 0, "gyro_bias_sigma", "must be > 0", gyro_bias_sigma);
+  require(propagated_chi2_threshold > 0, "propagated_chi2_threshold", "must be > 0", propagated_chi2_threshold);
+  require(landmark_chi2_threshold > 0, "landmark_chi2_threshold", "must be > 0", landmark_chi2_threshold);
+  require(min_landmarks_tested >= 3, "min_landmarks_tested", "must be >= 3", min_landmarks_tested);
+  require(partial_min_count >= 3, "partial_min_count", "must be >= 3", partial_min_count);
+  require(partial_min_fraction > 0 && partial_min_fraction <= 1, "partial_min_fraction", "must be in (0, 1]",
+          partial_min_fraction);
+  require(min_coherence >= 0 && min_coherence <= 1, "min_coherence", "must be in [0, 1]", min_coherence);
+  require(coherence_sigma_m > 0, "coherence_sigma_m", "must be > 0", coherence_sigma_m);
+  require(whole_view_fraction > 0 && whole_view_fraction <= 1, "whole_view_fraction", "must be in (0, 1]",
+          whole_view_fraction);
+  require(enter_frames >= 1, "enter_frames", "must be >= 1", enter_frames);
+  require(exit_frames >= 1, "exit_frames", "must be >= 1", exit_frames);
+  require(selective_strikes >= 1, "selective_strikes", "must be >= 1", selective_strikes);
+  require(auto_min_static_landmarks >= 0, "auto_min_static_landmarks", "must be >= 0", auto_min_static_landmarks);
+}
+
+ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::string& context) {
+  ConflictOptions o;
+  if (!node || node.IsNull()) return o;
+  if (!node.IsMap()) throw InputError(context + ": the conflict section must be a map");
+  std::set<std::string> known;
+  auto read = [&](const char* key, auto* value) {
+    known.insert(key);
+    const YAML::Node v = node[key];
+    if (!v) return;
+    try {
+      *value = v.as<std::remove_pointer_t<decltype(value)>>();
+    } catch (const YAML::Exception& e) {
+      throw InputError(context + ": key 'conflict." + key + "' has an invalid value (" + e.what() + ")");
+    }
+  };
+  std::string mode = toString(o.mode);
+  read("mode", &mode);
+  o.mode = resolutionModeFromString(mode, context + ": key 'conflict.mode'");
+  read("horizon_frames", &o.horizon_frames);
+  read("observation_sigma_px", &o.observation_sigma_px);
+  read("stereo_sigma_px", &o.stereo_sigma_px);
+  read("velocity_sigma_mps", &o.velocity_sigma_mps);
+  read("attitude_sigma_rad", &o.attitude_sigma_rad);
+  read("accel_bias_sigma", &o.accel_bias_sigma);
+  read("gyro_bias_sigma", &o.gyro_bias_sigma);
+  read("propagated_chi2_threshold", &o.propagated_chi2_threshold);
+  read("landmark_chi2_threshold", &o.landmark_chi2_threshold);
+  read("min_landmarks_tested", &o.min_landmarks_tested);
+  read("partial_min_count", &o.partial_min_count);
+  read("partial_min_fraction", &o.partial_min_fraction);
+  read("min_coherence", &o.min_coherence);
+  read("coherence_sigma_m", &o.coherence_sigma_m);
+  read("whole_view_fraction", &o.whole_view_fraction);
+  read("enter_frames", &o.enter_frames);
+  read("exit_frames", &o.exit_frames);
+  read("selective_strikes", &o.selective_strikes);
+  read("use_frontend_labels", &o.use_frontend_labels);
+  read("auto_min_static_landmarks", &o.auto_min_static_landmarks);
+  read("rewind_on_entry", &o.rewind_on_entry);
+  for (const auto& kv : node) {
+    const std::string key = kv.first.as<std::string>();
+    if (known.count(key) == 0) throw InputError(context + ": unknown conflict option '" + key + "'");
+  }
+  try {
+    o.validate();
+  } catch (const InputError& e) {
+    throw InputError(context + ": " + e.what());
+  }
+  return o;
+}
+
+}  // namespace mcvio::conflict

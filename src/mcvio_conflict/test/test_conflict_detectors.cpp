@@ -1,0 +1,244 @@
+// Unit tests of the motion-conflict pieces on small constructed cases.
+#include <random>
+
+#include <Eigen/Dense>
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include "mcvio/conflict/conflict_interval_tracker.hpp"
+#include "mcvio/conflict/conflict_options.hpp"
+#include "mcvio/conflict/landmark_conflict_detector.hpp"
+#include "mcvio/conflict/landmark_motion_classifier.hpp"
+#include "mcvio/conflict/propagated_state_detector.hpp"
+#include "mcvio/conflict/relative_pose_solver.hpp"
+#include "mcvio/conflict/secondary_motion_tracker.hpp"
+#include "mcvio/conflict/so3_math.hpp"
+#include "mcvio/core/input_error.hpp"
+
+using namespace mcvio;
+using namespace mcvio::conflict;
+
+namespace {
+
+RigGeometry rig() {
+  RigGeometry g;
+  // cam0 looks along body x (EuRoC-like: camera z = body x), cam1 11 cm to the side.
+  Eigen::Matrix3d R;
+  R << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  g.T_BC0.linear() = R;
+  g.T_BC1 = g.T_BC0;
+  g.T_BC1.translation() = R * Eigen::Vector3d(0.11, 0, 0);
+  g.focal_px = 458;
+  return g;
+}
+
+RelativeMotion motion(const Eigen::Vector3d& rot, const Eigen::Vector3d& t, double sigma_rot, double sigma_t) {
+  RelativeMotion m;
+  m.R = so3::exp(rot);
+  m.t = t;
+  m.covariance.setZero();
+  m.covariance.diagonal() << Eigen::Vector3d::Constant(sigma_rot * sigma_rot), Eigen::Vector3d::Constant(sigma_t * sigma_t);
+  return m;
+}
+
+/// Points in front of cam0 seen in frame r, observed in frame k after `truth` (static world);
+/// `moving` of them also undergo `object` (a rigid motion in body k).
+std::vector<TrackedPoint> makePoints(const RigGeometry& g, const RelativeMotion& truth, int n_static, int n_moving,
+                                     const Eigen::Isometry3d& object, double noise_px, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), depth(1.5, 6.0);
+  std::normal_distribution<double> px(0.0, noise_px);
+  const Eigen::Isometry3d T_CB = g.T_BC0.inverse();
+  std::vector<TrackedPoint> pts;
+  for (int i = 0; i < n_static + n_moving; ++i) {
+    const double d = depth(rng);
+    const Eigen::Vector3d b(0.5 * u(rng), 0.35 * u(rng), 1.0);
+    TrackedPoint p;
+    p.track_id = static_cast<std::uint64_t>(i);
+    p.X_r = g.T_BC0 * (b * d);
+    p.depth_r = d;
+    p.ray_r = g.T_BC0.linear() * b.normalized();
+    p.depth_sigma_r = d * d * 0.5 / (g.focal_px * 0.11);
+    Eigen::Vector3d X_k = truth.toCurrent(p.X_r);
+    if (i >= n_static) X_k = object * X_k;
+    const Eigen::Vector3d X_c = T_CB * X_k;
+    p.n0_k = X_c.head<2>() / X_c.z() + Eigen::Vector2d(px(rng), px(rng)) / g.focal_px;
+    p.has_X_k = true;
+    p.X_k = X_k;
+    p.depth_sigma_k = X_c.z() * X_c.z() * 0.5 / (g.focal_px * 0.11);
+    pts.push_back(p);
+  }
+  return pts;
+}
+
+}  // namespace
+
+TEST(RelativePoseSolver, RecoversTheMotionFromStereoPoints) {
+  const auto g = rig();
+  const auto truth = motion({0.02, -0.05, 0.03}, {0.3, -0.1, 0.05}, 0, 0);
+  const auto pts = makePoints(g, truth, 120, 0, Eigen::Isometry3d::Identity(), 0.0, 1);
+  RelativePoseSolver solver(g, {});
+  const auto res = solver.solve(pts, motion({0, 0, 0}, {0.2, 0, 0}, 0, 0));
+  ASSERT_TRUE(res.valid);
+  EXPECT_LT(so3::log(res.motion.R.transpose() * truth.R).norm(), 1e-6);
+  EXPECT_LT((res.motion.t - truth.t).norm(), 1e-6);
+  EXPECT_EQ(res.inliers, 120);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(res.motion.covariance);
+  EXPECT_GT(eig.eigenvalues().minCoeff(), 0.0);
+}
+
+TEST(RelativePoseSolver, IgnoresAMovingMinority) {
+  const auto g = rig();
+  const auto truth = motion({0.0, 0.02, 0.0}, {0.2, 0.0, 0.0}, 0, 0);
+  Eigen::Isometry3d object = Eigen::Isometry3d::Identity();
+  object.translation() = Eigen::Vector3d(0, 0.3, 0);  // moves sideways in front of the camera
+  const auto pts = makePoints(g, truth, 100, 30, object, 0.5, 2);
+  const auto res = RelativePoseSolver(g, {}).solve(pts, truth);
+  ASSERT_TRUE(res.valid);
+  EXPECT_LT((res.motion.t - truth.t).norm(), 0.01);
+  EXPECT_LE(res.inliers, 105);
+}
+
+TEST(RelativePoseSolver, TooFewPointsIsInvalid) {
+  const auto g = rig();
+  const auto truth = motion({0, 0, 0}, {0.1, 0, 0}, 0, 0);
+  const auto pts = makePoints(g, truth, 5, 0, Eigen::Isometry3d::Identity(), 0.0, 3);
+  EXPECT_FALSE(RelativePoseSolver(g, {}).solve(pts, truth).valid);
+}
+
+TEST(PropagatedStateDetector, QuietWhenImuAndVisionAgreeAndFiresOnADisplacement) {
+  PropagatedStateDetector det(40.0);
+  const auto imu = motion({0.01, 0, 0}, {0.5, 0, 0}, 0.002, 0.01);
+  auto vision = imu;
+  vision.covariance = imu.covariance;
+  EXPECT_NEAR(det.test(imu, vision).chi2, 0.0, 1e-9);
+  EXPECT_FALSE(det.test(imu, vision).fired);
+  vision.t.z() += 0.01;  // 1 sigma of the sum: chi2 = 0.5
+  EXPECT_NEAR(det.test(imu, vision).chi2, 0.5, 1e-6);
+  vision.t.z() += 0.11;  // the cabin moved 12 cm that the IMU did not feel
+  const auto r = det.test(imu, vision);
+  EXPECT_TRUE(r.fired);
+  EXPECT_NEAR(r.error[5], 0.12, 1e-9);
+  // A rotation the IMU did not feel also counts.
+  vision = imu;
+  vision.R = imu.R * so3::exp(Eigen::Vector3d(0, 0, 0.03));
+  EXPECT_TRUE(det.test(imu, vision).fired);
+}
+
+TEST(LandmarkConflictDetector, FlagsACoherentMovingGroup) {
+  const auto g = rig();
+  ConflictOptions o;
+  const auto truth = motion({0.0, 0.01, 0.0}, {0.25, 0.0, 0.0}, 0, 0);
+  Eigen::Isometry3d object = Eigen::Isometry3d::Identity();
+  object.translation() = Eigen::Vector3d(0.0, 0.15, 0.05);
+  const auto pts = makePoints(g, truth, 100, 30, object, 0.7, 4);
+  LandmarkConflictDetector det(g, o);
+  const auto imu = motion({0.0, 0.01, 0.0}, {0.25, 0.0, 0.0}, 0.001, 0.005);
+  const auto res = det.test(pts, imu);
+  EXPECT_EQ(res.tested, 130);
+  int moving_flagged = 0, static_flagged = 0;
+  for (const auto& v : res.verdicts) (v.track_id >= 100 ? moving_flagged : static_flagged) += v.inconsistent ? 1 : 0;
+  EXPECT_GE(moving_flagged, 28);
+  EXPECT_LE(static_flagged, 2);
+  EXPECT_GT(res.coherence, 0.85);
+  EXPECT_NEAR(res.T_group.translation().y(), 0.15, 0.03);
+}
+
+TEST(LandmarkConflictDetector, ScatteredOutliersAreNotCoherent) {
+  const auto g = rig();
+  ConflictOptions o;
+  const auto truth = motion({0.0, 0.0, 0.0}, {0.2, 0.0, 0.0}, 0, 0);
+  auto pts = makePoints(g, truth, 100, 0, Eigen::Isometry3d::Identity(), 0.5, 5);
+  // 20 tracks jump to unrelated places (wrong matches).
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> jump(-0.08, 0.08);
+  for (int i = 0; i < 20; ++i) {
+    pts[static_cast<std::size_t>(i)].n0_k += Eigen::Vector2d(jump(rng), jump(rng));
+    pts[static_cast<std::size_t>(i)].X_k += Eigen::Vector3d(3 * jump(rng), 3 * jump(rng), 3 * jump(rng));
+  }
+  const auto res = LandmarkConflictDetector(g, o).test(pts, motion({0, 0, 0}, {0.2, 0, 0}, 0.001, 0.005));
+  EXPECT_GE(res.inconsistent, 15);
+  EXPECT_LT(res.coherence, o.min_coherence);
+}
+
+TEST(LandmarkConflictDetector, AgreesWithAStaticWorld) {
+  const auto g = rig();
+  ConflictOptions o;
+  const auto truth = motion({0.01, 0.02, -0.01}, {0.3, 0.05, 0.0}, 0, 0);
+  const auto pts = makePoints(g, truth, 150, 0, Eigen::Isometry3d::Identity(), 1.0, 7);
+  const auto res = LandmarkConflictDetector(g, o).test(pts, motion({0.01, 0.02, -0.01}, {0.3, 0.05, 0.0}, 0.001, 0.005));
+  EXPECT_LE(res.fraction, 0.02);
+}
+
+TEST(ConflictIntervalTracker, HysteresisOpensAndClosesIntervals) {
+  ConflictIntervalTracker tr(2, 3);
+  using S = ConflictIntervalTracker::State;
+  EXPECT_EQ(tr.update(1, false), S::kNone);
+  EXPECT_EQ(tr.update(2, true), S::kSuspected);  // one blip is not a conflict
+  EXPECT_EQ(tr.update(3, false), S::kNone);
+  EXPECT_EQ(tr.update(4, true), S::kSuspected);
+  EXPECT_EQ(tr.update(5, true), S::kConflict);
+  EXPECT_TRUE(tr.justEntered());
+  EXPECT_EQ(tr.intervalStart(), 4);
+  EXPECT_EQ(tr.update(6, false), S::kConflict);
+  EXPECT_EQ(tr.update(7, false), S::kConflict);
+  EXPECT_EQ(tr.update(8, true), S::kConflict);  // evidence again restarts the exit count
+  EXPECT_EQ(tr.update(9, false), S::kConflict);
+  EXPECT_EQ(tr.update(10, false), S::kConflict);
+  EXPECT_EQ(tr.update(11, false), S::kNone);
+  EXPECT_TRUE(tr.justExited());
+  EXPECT_EQ(tr.intervalStart(), 4);
+}
+
+TEST(LandmarkMotionClassifier, NeedsRepeatedDisagreementAndStaysEliminated) {
+  LandmarkMotionClassifier c(2);
+  EXPECT_FALSE(c.addVerdict(1, true));
+  EXPECT_FALSE(c.addVerdict(1, false));  // one agreeing verdict takes the strike back
+  EXPECT_FALSE(c.addVerdict(1, true));
+  EXPECT_TRUE(c.addVerdict(1, true));
+  EXPECT_TRUE(c.isMoving(1));
+  EXPECT_FALSE(c.addVerdict(1, false));
+  EXPECT_TRUE(c.isMoving(1));
+  EXPECT_FALSE(c.isMoving(2));
+  c.forget(1);
+  EXPECT_FALSE(c.isMoving(1));
+}
+
+TEST(SecondaryMotionTracker, CabinMotionIsInertialMinusVisual) {
+  SecondaryMotionTracker s;
+  Eigen::Isometry3d T_WB = Eigen::Isometry3d::Identity();
+  T_WB.translation() = Eigen::Vector3d(1, 2, 0);
+  s.begin(0, T_WB);
+  // The body walks 0.1 m along its x inside the cabin per step; the cabin rises 0.5 m per step.
+  Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+  step.translation() = Eigen::Vector3d(0.1, 0, 0);
+  for (int k = 1; k <= 4; ++k) {
+    T_WB.translation() += Eigen::Vector3d(0.1, 0, 0.5);
+    s.addVisionIncrement(step, true);
+    ASSERT_TRUE(s.update(k * 100'000'000LL, T_WB));
+  }
+  EXPECT_TRUE(s.valid());
+  EXPECT_LT((s.T_WS().translation() - Eigen::Vector3d(0, 0, 2.0)).norm(), 1e-9);
+  EXPECT_NEAR(s.v_WS().z(), 5.0, 1e-6);
+  s.addVisionIncrement(step, false);
+  EXPECT_FALSE(s.valid());
+}
+
+TEST(ConflictOptions, YamlErrorsNameTheKey) {
+  EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("mode: auto")).mode, ResolutionMode::kAuto);
+  try {
+    ConflictOptions::fromYaml(YAML::Load("mode: sometimes"), "cfg.yaml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("conflict.mode"), std::string::npos) << e.what();
+  }
+  try {
+    ConflictOptions::fromYaml(YAML::Load("horizon_frame: 3"), "cfg.yaml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("horizon_frame"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("enter_frames: 0")), InputError);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("min_coherence: abc")), InputError);
+}

@@ -1,0 +1,112 @@
+#pragma once
+#include <cstdint>
+#include <deque>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "mcvio/conflict/conflict_interval_tracker.hpp"
+#include "mcvio/conflict/conflict_options.hpp"
+#include "mcvio/conflict/landmark_conflict_detector.hpp"
+#include "mcvio/conflict/landmark_motion_classifier.hpp"
+#include "mcvio/conflict/propagated_state_detector.hpp"
+#include "mcvio/conflict/relative_pose_solver.hpp"
+#include "mcvio/conflict/secondary_motion_tracker.hpp"
+#include "mcvio/core/imu_noise.hpp"
+#include "mcvio/estimator/estimator_output.hpp"
+#include "mcvio/estimator/imu_bias.hpp"
+#include "mcvio/estimator/imu_buffer.hpp"
+
+namespace mcvio::estimator {
+
+/// The estimator's motion-conflict layer (dissertation ch. 5-6, DESIGN.md "The algorithm").
+///
+/// Before each solve it compares the body motion over the last `horizon_frames` as the IMU
+/// predicts it (from the estimated state at the reference frame r) with what vision alone says
+/// (stereo points of r re-observed in k): the propagated-state detector on the whole motion, the
+/// landmark detector per landmark with a rigid-motion coherence test of the disagreeing group.
+/// Hysteresis turns the evidence into intervals, and the mode decides the resolution the
+/// estimator applies: IMU-dominated (no visual residuals, biases held, rewind to the state before
+/// the evidence), selective (eliminate the landmarks whose verdict history says they move), or
+/// auto. After the solve, commit() stores the frame and updates the conflicting frame's motion.
+class MotionConflictMonitor {
+ public:
+  using ObservationMap = std::unordered_map<std::uint64_t, Eigen::Vector2d>;
+
+  /// The estimated state of a frame.
+  struct State {
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+    Eigen::Vector3d v = Eigen::Vector3d::Zero();
+    ImuBias bias;
+  };
+
+  /// What the estimator must do with the current frame.
+  struct Decision {
+    ConflictReport report;
+    bool imu_dominated = false;      ///< no visual residuals, biases held at `held_bias`
+    ImuBias held_bias;
+    bool rewind = false;             ///< restart the window from `rewind_state` propagated to this frame
+    State rewind_state;
+    Timestamp rewind_t = 0;
+    bool suppress_zero_velocity = false;  ///< vision at rest inside a moving frame says nothing
+    std::vector<std::uint64_t> eliminate;  ///< tracks declared moving in this frame
+  };
+
+  MotionConflictMonitor(const conflict::ConflictOptions& options, const conflict::RigGeometry& rig,
+                        const ImuNoiseParams& imu_noise, const Eigen::Vector3d& gravity, double min_depth_m,
+                        double max_depth_m);
+
+  /// Tests frame k (time t, its observations, tracks the frontend labelled inconsistent).
+  Decision process(Timestamp t, const ObservationMap& cam0, const ObservationMap& cam1,
+                   const std::unordered_set<std::uint64_t>& frontend_inconsistent, const ImuBuffer& imu);
+  /// Stores frame k with its solved state (call after the solve, also in reference mode).
+  void commit(const State& solved, ConflictReport* report);
+  /// Forgets everything (after an estimator reset).
+  void reset();
+
+  bool isEliminated(std::uint64_t track_id) const { return classifier_.isMoving(track_id); }
+  bool imuDominated() const { return imu_dominated_; }
+  /// Oldest time the monitor still needs IMU for.
+  Timestamp oldestTimeNeeded() const { return history_.empty() ? 0 : history_.front().t; }
+
+ private:
+  struct Entry {
+    Timestamp t = 0;
+    ObservationMap cam0, cam1;
+    State state;
+    bool evidence = false;
+    Eigen::Isometry3d vision_increment = Eigen::Isometry3d::Identity();  ///< body k -> body k-1, vision only
+    bool vision_increment_valid = false;
+  };
+
+  bool triangulate(const Eigen::Vector2d& n0, const Eigen::Vector2d& n1, double* depth) const;
+  std::vector<conflict::TrackedPoint> collectPoints(const Entry& r, const ObservationMap& cam0,
+                                                    const ObservationMap& cam1) const;
+  bool imuMotion(const Entry& r, Timestamp t, const ImuBuffer& imu, conflict::RelativeMotion* motion,
+                 State* propagated) const;
+
+  conflict::ConflictOptions options_;
+  conflict::RigGeometry rig_;
+  Eigen::Isometry3d T_C1C0_;
+  ImuNoiseParams imu_noise_;
+  Eigen::Vector3d gravity_;
+  double min_depth_, max_depth_;
+  conflict::RelativePoseSolver pose_solver_;
+  conflict::PropagatedStateDetector propagated_detector_;
+  conflict::LandmarkConflictDetector landmark_detector_;
+  conflict::ConflictIntervalTracker tracker_;
+  conflict::LandmarkMotionClassifier classifier_;
+  conflict::SecondaryMotionTracker secondary_;
+
+  std::deque<Entry> history_;
+  Entry pending_;            ///< frame k between process() and commit()
+  bool have_pending_ = false;
+  bool imu_dominated_ = false;
+  ImuBias held_bias_;
+};
+
+}  // namespace mcvio::estimator

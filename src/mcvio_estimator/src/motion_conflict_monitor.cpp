@@ -1,0 +1,287 @@
+#include "mcvio/estimator/motion_conflict_monitor.hpp"
+
+#include <Eigen/Dense>
+
+#include "mcvio/estimator/imu_preintegrator.hpp"
+#include "mcvio/estimator/so3.hpp"
+
+namespace mcvio::estimator {
+
+namespace {
+
+conflict::RelativePoseSolver::Options solverOptions(const conflict::ConflictOptions& o) {
+  conflict::RelativePoseSolver::Options s;
+  s.observation_sigma_px = o.observation_sigma_px;
+  s.huber_px = 2.0 * o.observation_sigma_px;
+  s.outlier_px = 4.0 * o.observation_sigma_px;
+  return s;
+}
+
+Eigen::Isometry3d isometry(const Eigen::Quaterniond& q, const Eigen::Vector3d& p) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = q.toRotationMatrix();
+  T.translation() = p;
+  return T;
+}
+
+}  // namespace
+
+MotionConflictMonitor::MotionConflictMonitor(const conflict::ConflictOptions& options, const conflict::RigGeometry& rig,
+                                             const ImuNoiseParams& imu_noise, const Eigen::Vector3d& gravity,
+                                             double min_depth_m, double max_depth_m)
+    : options_(options),
+      rig_(rig),
+      T_C1C0_(rig.T_BC1.inverse() * rig.T_BC0),
+      imu_noise_(imu_noise),
+      gravity_(gravity),
+      min_depth_(min_depth_m),
+      max_depth_(max_depth_m),
+      pose_solver_(rig, solverOptions(options)),
+      propagated_detector_(options.propagated_chi2_threshold),
+      landmark_detector_(rig, options),
+      tracker_(options.enter_frames, options.exit_frames),
+      classifier_(options.selective_strikes) {}
+
+void MotionConflictMonitor::reset() {
+  history_.clear();
+  have_pending_ = false;
+  imu_dominated_ = false;
+  tracker_.reset();
+  classifier_.clear();
+  secondary_.end();
+}
+
+bool MotionConflictMonitor::triangulate(const Eigen::Vector2d& n0, const Eigen::Vector2d& n1, double* depth) const {
+  const Eigen::Isometry3d T_C0C1 = T_C1C0_.inverse();
+  const Eigen::Vector3d b0(n0.x(), n0.y(), 1.0), b1(n1.x(), n1.y(), 1.0);
+  Eigen::Matrix<double, 3, 2> A;
+  A.col(0) = b0;
+  A.col(1) = -(T_C0C1.linear() * b1);
+  const Eigen::Vector2d d = A.colPivHouseholderQr().solve(T_C0C1.translation());
+  if (!(d[0] > min_depth_ && d[0] < max_depth_ && d[1] > 0)) return false;
+  const Eigen::Vector3d p_C1 = T_C1C0_ * (b0 * d[0]);
+  if ((p_C1.head<2>() / p_C1.z() - n1).norm() * rig_.focal_px > 4.0 * options_.observation_sigma_px) return false;
+  *depth = d[0];
+  return true;
+}
+
+std::vector<conflict::TrackedPoint> MotionConflictMonitor::collectPoints(const Entry& r, const ObservationMap& cam0,
+                                                                         const ObservationMap& cam1) const {
+  std::vector<conflict::TrackedPoint> pts;
+  pts.reserve(cam0.size());
+  const double fb = rig_.focal_px * rig_.baseline();
+  const double s = options_.stereo_sigma_px;
+  for (const auto& [id, n0_k] : cam0) {
+    const auto r0 = r.cam0.find(id);
+    if (r0 == r.cam0.end()) continue;
+    const auto r1 = r.cam1.find(id);
+    if (r1 == r.cam1.end()) continue;
+    double d = 0;
+    if (!triangulate(r0->second, r1->second, &d)) continue;
+    conflict::TrackedPoint p;
+    p.track_id = id;
+    const Eigen::Vector3d b0(r0->second.x(), r0->second.y(), 1.0);
+    p.X_r = rig_.T_BC0 * (b0 * d);
+    p.depth_r = d;
+    p.ray_r = rig_.T_BC0.linear() * b0.normalized();
+    p.depth_sigma_r = d * d * s / fb;
+    p.n0_k = n0_k;
+    const auto k1 = cam1.find(id);
+    double dk = 0;
+    if (k1 != cam1.end() && triangulate(n0_k, k1->second, &dk)) {
+      p.has_X_k = true;
+      p.X_k = rig_.T_BC0 * (Eigen::Vector3d(n0_k.x(), n0_k.y(), 1.0) * dk);
+      p.depth_sigma_k = dk * dk * s / fb;
+    }
+    pts.push_back(p);
+  }
+  return pts;
+}
+
+bool MotionConflictMonitor::imuMotion(const Entry& r, Timestamp t, const ImuBuffer& imu,
+                                      conflict::RelativeMotion* motion, State* propagated) const {
+  std::vector<ImuSample> samples;
+  if (!imu.extract(r.t, t, &samples) || samples.size() < 2) return false;
+  ImuPreintegrator pre(r.state.bias, imu_noise_);
+  for (const auto& s : samples) pre.integrate(s);
+  const double dt = pre.deltaTime();
+  const Eigen::Matrix3d R_r = r.state.q.toRotationMatrix();
+  const Eigen::Vector3d inertial = R_r.transpose() * (r.state.v * dt + 0.5 * gravity_ * dt * dt);
+  motion->R = pre.deltaQ().toRotationMatrix();
+  motion->t = inertial + pre.deltaP();
+  const auto& C = pre.covariance();
+  Eigen::Matrix<double, 6, 6> S = Eigen::Matrix<double, 6, 6>::Zero();
+  S.block<3, 3>(0, 0) = C.block<3, 3>(0, 0);
+  S.block<3, 3>(0, 3) = C.block<3, 3>(0, 6);
+  S.block<3, 3>(3, 0) = C.block<3, 3>(6, 0);
+  S.block<3, 3>(3, 3) = C.block<3, 3>(6, 6);
+  // The state at r is an estimate: its velocity, attitude and biases spread the prediction.
+  const double sv = options_.velocity_sigma_mps * dt, sa = options_.attitude_sigma_rad;
+  const double sbg2 = options_.gyro_bias_sigma * options_.gyro_bias_sigma;
+  const double sba2 = options_.accel_bias_sigma * options_.accel_bias_sigma;
+  const Eigen::Matrix3d J_att = so3::hat(inertial);
+  S.block<3, 3>(3, 3) += sv * sv * Eigen::Matrix3d::Identity() + sa * sa * J_att * J_att.transpose() +
+                         sba2 * pre.dP_dba() * pre.dP_dba().transpose() + sbg2 * pre.dP_dbg() * pre.dP_dbg().transpose();
+  S.block<3, 3>(0, 0) += sbg2 * pre.dR_dbg() * pre.dR_dbg().transpose();
+  S.block<3, 3>(0, 3) += sbg2 * pre.dR_dbg() * pre.dP_dbg().transpose();
+  S.block<3, 3>(3, 0) += sbg2 * pre.dP_dbg() * pre.dR_dbg().transpose();
+  motion->covariance = S;
+  pre.predict(r.state.p, r.state.q, r.state.v, r.state.bias, gravity_, &propagated->p, &propagated->q, &propagated->v);
+  propagated->bias = r.state.bias;
+  return motion->t.allFinite() && motion->R.allFinite();
+}
+
+MotionConflictMonitor::Decision MotionConflictMonitor::process(
+    Timestamp t, const ObservationMap& cam0, const ObservationMap& cam1,
+    const std::unordered_set<std::uint64_t>& frontend_inconsistent, const ImuBuffer& imu) {
+  Decision d;
+  const auto mode = options_.mode;
+  d.report.propagated_threshold = options_.propagated_chi2_threshold;
+  pending_ = Entry{};
+  pending_.t = t;
+  pending_.cam0 = cam0;
+  pending_.cam1 = cam1;
+  have_pending_ = true;
+
+  // Vision-only increment from the previous frame: the body's motion inside whatever it sees.
+  if (!history_.empty()) {
+    conflict::RelativeMotion imu_prev;
+    State ignored;
+    if (imuMotion(history_.back(), t, imu, &imu_prev, &ignored)) {
+      std::vector<conflict::TrackedPoint> pts;
+      for (auto& p : collectPoints(history_.back(), cam0, cam1))
+        if (!classifier_.isMoving(p.track_id)) pts.push_back(p);
+      const auto sol = pose_solver_.solve(pts, imu_prev);
+      if (sol.valid) {
+        pending_.vision_increment.linear() = sol.motion.R;
+        pending_.vision_increment.translation() = sol.motion.t;
+        pending_.vision_increment_valid = true;
+      }
+    }
+  }
+
+  const int H = options_.horizon_frames;
+  bool evidence = false, whole = false;
+  int static_count = 0;
+  const bool selective_active = mode == conflict::ResolutionMode::kSelective || mode == conflict::ResolutionMode::kAuto;
+  if (static_cast<int>(history_.size()) >= H) {
+    const Entry& r = history_[history_.size() - static_cast<std::size_t>(H)];
+    conflict::RelativeMotion imu_rel;
+    State propagated;
+    if (imuMotion(r, t, imu, &imu_rel, &propagated)) {
+      const auto pts = collectPoints(r, cam0, cam1);
+      std::vector<conflict::TrackedPoint> still;
+      for (const auto& p : pts)
+        if (!classifier_.isMoving(p.track_id)) still.push_back(p);
+      const auto vis = pose_solver_.solve(still, imu_rel);
+      if (vis.valid) {
+        const auto prop = propagated_detector_.test(imu_rel, vis.motion);
+        d.report.propagated_chi2 = prop.chi2;
+        whole = prop.fired;
+      }
+      const auto lm = landmark_detector_.test(pts, imu_rel);
+      d.report.landmarks_tested = lm.tested;
+      d.report.landmarks_inconsistent = lm.inconsistent;
+      d.report.inconsistent_fraction = lm.fraction;
+      d.report.coherence = lm.coherence;
+      static_count = lm.tested - lm.inconsistent;
+      const bool partial = lm.tested >= options_.min_landmarks_tested && lm.inconsistent >= options_.partial_min_count &&
+                           lm.fraction >= options_.partial_min_fraction && lm.coherence >= options_.min_coherence;
+      if (lm.tested >= options_.min_landmarks_tested && lm.fraction >= options_.whole_view_fraction) whole = true;
+      evidence = whole || partial;
+      // Inside an IMU-dominated interval every landmark disagrees with the inertial motion;
+      // that says nothing about which of them move once the interval is over.
+      if (selective_active && !imu_dominated_)
+        for (const auto& v : lm.verdicts)
+          if (classifier_.addVerdict(v.track_id, v.inconsistent)) d.eliminate.push_back(v.track_id);
+    }
+  }
+  if (selective_active && !imu_dominated_ && options_.use_frontend_labels)
+    for (const auto id : frontend_inconsistent)
+      if (cam0.count(id) != 0 && classifier_.addVerdict(id, true)) d.eliminate.push_back(id);
+  pending_.evidence = evidence;
+
+  const auto state = tracker_.update(t, evidence);
+  d.report.state = state == conflict::ConflictIntervalTracker::State::kConflict    ? ConflictReport::State::kConflict
+                   : state == conflict::ConflictIntervalTracker::State::kSuspected ? ConflictReport::State::kSuspected
+                                                                                    : ConflictReport::State::kNone;
+  d.report.interval_start = tracker_.intervalStart();
+
+  if (tracker_.justExited() && imu_dominated_) {
+    imu_dominated_ = false;
+    secondary_.end();
+    classifier_.clear();
+  }
+  if (tracker_.inConflict() && !imu_dominated_) {
+    const bool want_imu =
+        mode == conflict::ResolutionMode::kImu ||
+        (mode == conflict::ResolutionMode::kAuto && (whole || static_count < options_.auto_min_static_landmarks));
+    if (want_imu) {
+      imu_dominated_ = true;
+      // The state before the evidence run: the reference frame of its first frame.
+      std::size_t first = history_.size();
+      for (std::size_t i = 0; i < history_.size(); ++i)
+        if (history_[i].t >= tracker_.intervalStart()) {
+          first = i;
+          break;
+        }
+      const std::size_t back = static_cast<std::size_t>(H);
+      const std::size_t idx = first >= back ? first - back : 0;
+      const Entry* start = history_.empty() ? nullptr : &history_[idx];
+      if (start == nullptr) {
+        held_bias_ = ImuBias{};
+      } else {
+        held_bias_ = start->state.bias;
+        State propagated;
+        conflict::RelativeMotion ignored;
+        if (options_.rewind_on_entry && imuMotion(*start, t, imu, &ignored, &propagated)) {
+          d.rewind = true;
+          d.rewind_state = propagated;
+          d.rewind_t = start->t;
+        }
+        secondary_.begin(start->t, isometry(start->state.q, start->state.p));
+        for (std::size_t i = idx + 1; i < history_.size(); ++i)
+          secondary_.addVisionIncrement(history_[i].vision_increment, history_[i].vision_increment_valid);
+      }
+    }
+  }
+  d.imu_dominated = imu_dominated_;
+  d.held_bias = held_bias_;
+  d.suppress_zero_velocity = mode != conflict::ResolutionMode::kReference && tracker_.inConflict();
+  switch (mode) {
+    case conflict::ResolutionMode::kReference:
+      d.report.resolution_mode = "reference";
+      break;
+    case conflict::ResolutionMode::kImu:
+      d.report.resolution_mode = "imu";
+      break;
+    case conflict::ResolutionMode::kSelective:
+      d.report.resolution_mode = "selective";
+      break;
+    case conflict::ResolutionMode::kAuto:
+      d.report.resolution_mode = imu_dominated_ ? "auto:imu" : "auto:selective";
+      break;
+  }
+  return d;
+}
+
+void MotionConflictMonitor::commit(const State& solved, ConflictReport* report) {
+  if (!have_pending_) return;
+  pending_.state = solved;
+  if (secondary_.active()) {
+    secondary_.addVisionIncrement(pending_.vision_increment, pending_.vision_increment_valid);
+    secondary_.update(pending_.t, isometry(solved.q, solved.p));
+  }
+  if (report != nullptr && secondary_.valid()) {
+    report->secondary_valid = true;
+    report->p_WS = secondary_.T_WS().translation();
+    report->q_WS = Eigen::Quaterniond(secondary_.T_WS().linear());
+    report->v_WS = secondary_.v_WS();
+  }
+  history_.push_back(std::move(pending_));
+  have_pending_ = false;
+  const std::size_t keep = static_cast<std::size_t>(options_.horizon_frames + options_.enter_frames + 40);
+  while (history_.size() > keep) history_.pop_front();
+}
+
+}  // namespace mcvio::estimator
