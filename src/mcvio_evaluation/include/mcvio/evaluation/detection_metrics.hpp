@@ -1,0 +1,70 @@
+#pragma once
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "mcvio/evaluation/conflict_label_timeline.hpp"
+#include "mcvio/evaluation/detector_log.hpp"
+
+namespace mcvio::evaluation {
+
+struct DetectionOptions {
+  /// A detector row and a label belong to the same frame if they are this close [s]; both come
+  /// from the camera stamps, so a small value only absorbs rounding.
+  double label_tolerance_s = 0.02;
+  /// Count `suspected` frames as detections too (default: only `conflict`).
+  bool suspected_is_positive = false;
+
+  /// Throws std::invalid_argument naming the field.
+  void validate() const;
+};
+
+/// Per-frame confusion counts: positive = labelled in conflict.
+struct ConfusionCounts {
+  std::size_t tp = 0, fp = 0, tn = 0, fn = 0;
+  double tpr() const;        ///< tp / (tp + fn); NaN without positives
+  double fpr() const;        ///< fp / (fp + tn); NaN without negatives
+  double precision() const;  ///< tp / (tp + fp); NaN without detections
+  double f1() const;
+};
+
+struct RocPoint {
+  double threshold = 0;  ///< frames with score >= threshold are detections
+  double tpr = 0;
+  double fpr = 0;
+};
+
+/// ROC of one detector score: one point per distinct score (from (0, 0) at +inf to (1, 1)).
+struct RocCurve {
+  std::string score;
+  std::vector<RocPoint> points;
+  double auc = 0;  ///< trapezoid area; NaN without both positives and negatives
+  std::size_t positives = 0, negatives = 0;
+  std::size_t skipped = 0;  ///< frames whose score is NaN (not computed that frame)
+};
+
+/// ROC of `scores` (higher = more conflict) against `positive`; NaN scores are skipped.
+/// Throws std::invalid_argument if the sizes differ.
+RocCurve computeRoc(const std::vector<double>& scores, const std::vector<bool>& positive,
+                    const std::string& score_name);
+
+/// A run's detector against the labels.
+struct DetectionResult {
+  ConfusionCounts counts;
+  std::size_t frames = 0;               ///< detector rows matched to a label
+  std::size_t rows_without_label = 0;   ///< detector rows with no label nearby
+  std::size_t labels_without_row = 0;   ///< labelled frames the run has no detector row for
+  /// ROC per score column present in the log: "propagated_chi2_ratio" (chi2 / threshold) and
+  /// "inconsistent_fraction".
+  std::vector<RocCurve> roc;
+  /// Per matched frame, in time order (for plots).
+  std::vector<Timestamp> times;
+  std::vector<bool> labelled;
+  std::vector<bool> detected;
+};
+
+/// Matches every detector row to the label of the same frame and counts TP/FP/TN/FN per frame.
+DetectionResult evaluateDetection(const DetectorLog& log, const ConflictLabelTimeline& labels,
+                                  const DetectionOptions& options = {});
+
+}  // namespace mcvio::evaluation

@@ -1,0 +1,40 @@
+#pragma once
+#include <string>
+#include <vector>
+
+#include "mcvio/evaluation/detector_record.hpp"
+
+namespace mcvio::evaluation {
+
+/// The per-frame conflict detector output of a run, as `mcvio run` writes OUT/conflict.csv:
+///   timestamp_ns,state,propagated_chi2,propagated_threshold,landmarks_tested,
+///   landmarks_inconsistent,inconsistent_fraction,coherence,interval_start_ns,resolution_mode
+/// The header line (with or without a leading '#') says which columns are present and in which
+/// order; only timestamp_ns and state are required, unknown columns are ignored. Without a
+/// header the order above is assumed.
+class DetectorLog {
+ public:
+  DetectorLog() = default;
+  DetectorLog(std::vector<DetectorRecord> records, std::vector<std::string> columns,
+              std::string source);
+
+  /// Throws mcvio::InputError "<path>:<line>: column '<name>': ..." for a missing file, a
+  /// header without timestamp_ns or state, a row whose field count differs from the header's,
+  /// a field that is not a (finite) number, an unknown state or time that does not increase.
+  static DetectorLog load(const std::string& path);
+
+  const std::vector<DetectorRecord>& records() const { return records_; }
+  bool empty() const { return records_.empty(); }
+  std::size_t size() const { return records_.size(); }
+  /// True if the file had this column (e.g. "inconsistent_fraction").
+  bool hasColumn(const std::string& name) const;
+  const std::vector<std::string>& columns() const { return columns_; }
+  const std::string& source() const { return source_; }
+
+ private:
+  std::vector<DetectorRecord> records_;
+  std::vector<std::string> columns_;
+  std::string source_;
+};
+
+}  // namespace mcvio::evaluation

@@ -1,0 +1,34 @@
+#pragma once
+#include <limits>
+#include <string>
+
+#include "mcvio/core/time.hpp"
+
+namespace mcvio::evaluation {
+
+/// One frame of a run's motion-conflict detector output (one row of OUT/conflict.csv).
+/// Columns a file lacks stay NaN (numbers), -1 (counts) or empty.
+struct DetectorRecord {
+  enum class State { kNone, kSuspected, kConflict };
+  Timestamp t = 0;
+  State state = State::kNone;
+  double propagated_chi2 = std::numeric_limits<double>::quiet_NaN();
+  double propagated_threshold = std::numeric_limits<double>::quiet_NaN();
+  int landmarks_tested = -1;
+  int landmarks_inconsistent = -1;
+  double inconsistent_fraction = std::numeric_limits<double>::quiet_NaN();
+  double coherence = std::numeric_limits<double>::quiet_NaN();
+  Timestamp interval_start = 0;
+  std::string resolution_mode;
+
+  /// propagated_chi2 / propagated_threshold (> 1 means the chi-square test fails); the bare
+  /// chi2 when the threshold is missing or not positive.
+  double propagatedRatio() const {
+    return propagated_threshold > 0 ? propagated_chi2 / propagated_threshold : propagated_chi2;
+  }
+};
+
+/// "none", "suspected", "conflict".
+const char* toString(DetectorRecord::State state);
+
+}  // namespace mcvio::evaluation

@@ -1,0 +1,218 @@
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "mcvio/core/input_error.hpp"
+#include "mcvio/evaluation/detection_metrics.hpp"
+#include "synthetic_trajectory.hpp"
+
+namespace mcvio::evaluation {
+namespace {
+
+constexpr Timestamp kT0 = 1'000'000'000;
+constexpr Timestamp kFrame = 50'000'000;  // 20 Hz
+
+/// 20 frames, frames 5..12 in conflict (8 positives, 12 negatives).
+ConflictLabelTimeline twentyFrameLabels() {
+  std::vector<dataset::ConflictLabel> labels;
+  for (int i = 0; i < 20; ++i) {
+    dataset::ConflictLabel l;
+    l.t = kT0 + i * kFrame;
+    l.in_conflict = i >= 5 && i <= 12;
+    l.motion = l.in_conflict ? "elevator" : "none";
+    labels.push_back(l);
+  }
+  return ConflictLabelTimeline(labels, "labels.csv");
+}
+
+DetectorRecord row(int frame, DetectorRecord::State state, double chi2_ratio, double fraction) {
+  DetectorRecord r;
+  r.t = kT0 + frame * kFrame + 1000;  // stamps a microsecond off: matched within the tolerance
+  r.state = state;
+  r.propagated_chi2 = chi2_ratio * 12.6;
+  r.propagated_threshold = 12.6;
+  r.inconsistent_fraction = fraction;
+  return r;
+}
+
+std::string loadError(const std::string& name, const std::string& text, std::string* path_out = nullptr) {
+  const std::string path = test::freshDir(name) + "/conflict.csv";
+  test::writeText(path, text);
+  if (path_out) *path_out = path;
+  try {
+    DetectorLog::load(path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return {};
+}
+
+const std::string kHeader =
+    "timestamp_ns,state,propagated_chi2,propagated_threshold,landmarks_tested,landmarks_inconsistent,"
+    "inconsistent_fraction,coherence,interval_start_ns,resolution_mode\n";
+
+TEST(Roc, KnownAreas) {
+  // Positives 0.9 and 0.6, negatives 0.8 and 0.3: 3 of 4 pairs ordered correctly.
+  const RocCurve mixed = computeRoc({0.9, 0.8, 0.6, 0.3}, {true, false, true, false}, "s");
+  EXPECT_DOUBLE_EQ(mixed.auc, 0.75);
+  ASSERT_EQ(mixed.points.size(), 5u);
+  EXPECT_DOUBLE_EQ(mixed.points[1].tpr, 0.5);
+  EXPECT_DOUBLE_EQ(mixed.points[1].fpr, 0.0);
+  EXPECT_DOUBLE_EQ(mixed.points[2].fpr, 0.5);
+  EXPECT_DOUBLE_EQ(mixed.points.back().tpr, 1.0);
+  EXPECT_DOUBLE_EQ(mixed.points.back().fpr, 1.0);
+  EXPECT_DOUBLE_EQ(computeRoc({3, 2, 1, 0}, {true, true, false, false}, "s").auc, 1.0);
+  EXPECT_DOUBLE_EQ(computeRoc({3, 2, 1, 0}, {false, false, true, true}, "s").auc, 0.0);
+  // A tie between a positive and a negative counts half.
+  EXPECT_DOUBLE_EQ(computeRoc({0.5, 0.5}, {true, false}, "s").auc, 0.5);
+  const RocCurve with_nan = computeRoc({NAN, 1, 0}, {true, true, false}, "s");
+  EXPECT_EQ(with_nan.skipped, 1u);
+  EXPECT_DOUBLE_EQ(with_nan.auc, 1.0);
+  EXPECT_TRUE(std::isnan(computeRoc({1, 2}, {true, true}, "s").auc));
+  EXPECT_THROW(computeRoc({1}, {}, "s"), std::invalid_argument);
+}
+
+TEST(Detection, TprFprPerFrameOnConstructedLabels) {
+  // Detector late by one frame: conflict on frames 6..13.
+  std::vector<DetectorRecord> rows;
+  for (int i = 0; i < 20; ++i) {
+    const bool flagged = i >= 6 && i <= 13;
+    rows.push_back(row(i, flagged ? DetectorRecord::State::kConflict
+                                  : (i == 5 ? DetectorRecord::State::kSuspected : DetectorRecord::State::kNone),
+                       flagged ? 2.0 : 0.5, i >= 5 && i <= 12 ? 0.6 : 0.1));
+  }
+  const DetectorLog log(rows, {"timestamp_ns", "state", "propagated_chi2", "propagated_threshold", "inconsistent_fraction"}, "c.csv");
+  const DetectionResult r = evaluateDetection(log, twentyFrameLabels());
+  EXPECT_EQ(r.frames, 20u);
+  EXPECT_EQ(r.counts.tp, 7u);
+  EXPECT_EQ(r.counts.fn, 1u);
+  EXPECT_EQ(r.counts.fp, 1u);
+  EXPECT_EQ(r.counts.tn, 11u);
+  EXPECT_DOUBLE_EQ(r.counts.tpr(), 7.0 / 8.0);
+  EXPECT_DOUBLE_EQ(r.counts.fpr(), 1.0 / 12.0);
+  EXPECT_DOUBLE_EQ(r.counts.precision(), 7.0 / 8.0);
+  ASSERT_EQ(r.roc.size(), 2u);
+  // chi2 ratio 2.0 on frames 6..13, 0.5 elsewhere. Over the 8 x 12 pairs: 7 high positives beat
+  // 11 low negatives, tie with 1 high negative; 1 low positive ties with 11 low negatives.
+  EXPECT_EQ(r.roc[0].score, "propagated_chi2_ratio");
+  EXPECT_NEAR(r.roc[0].auc, (7.0 * 11 + 0.5 * 7 * 1 + 0.5 * 1 * 11) / 96.0, 1e-12);
+  EXPECT_EQ(r.roc[1].score, "inconsistent_fraction");
+  EXPECT_DOUBLE_EQ(r.roc[1].auc, 1.0);
+
+  DetectionOptions suspected;
+  suspected.suspected_is_positive = true;
+  const DetectionResult s = evaluateDetection(log, twentyFrameLabels(), suspected);
+  EXPECT_EQ(s.counts.tp, 8u);
+  EXPECT_EQ(s.counts.fn, 0u);
+}
+
+TEST(Detection, UnmatchedRowsAndLabelsAreCounted) {
+  std::vector<DetectorRecord> rows;
+  for (int i = 3; i < 20; ++i) rows.push_back(row(i, DetectorRecord::State::kNone, 0.1, 0.0));
+  DetectorRecord late = row(40, DetectorRecord::State::kNone, 0.1, 0.0);
+  rows.push_back(late);
+  const DetectionResult r = evaluateDetection(DetectorLog(rows, {"timestamp_ns", "state"}, "c.csv"), twentyFrameLabels());
+  EXPECT_EQ(r.frames, 17u);
+  EXPECT_EQ(r.labels_without_row, 3u);
+  EXPECT_EQ(r.rows_without_label, 1u);
+  EXPECT_EQ(r.counts.fn, 8u);
+  EXPECT_DOUBLE_EQ(r.counts.tpr(), 0.0);
+  EXPECT_TRUE(r.roc.empty());  // no score columns in this log
+}
+
+TEST(ConflictLabelTimeline, IntervalsAndLookups) {
+  const ConflictLabelTimeline labels = twentyFrameLabels();
+  ASSERT_EQ(labels.conflictIntervals().size(), 1u);
+  EXPECT_EQ(labels.conflictIntervals()[0].start, kT0 + 5 * kFrame);
+  EXPECT_EQ(labels.conflictIntervals()[0].end, kT0 + 12 * kFrame);
+  EXPECT_EQ(labels.conflictFrames(), 8u);
+  EXPECT_EQ(labels.inConflictAt(kT0 + 5 * kFrame + 10'000'000, 0.02), std::optional<bool>(true));
+  EXPECT_EQ(labels.inConflictAt(kT0 + 4 * kFrame + 10'000'000, 0.02), std::optional<bool>(false));
+  EXPECT_FALSE(labels.inConflictAt(kT0 + 30 * kFrame, 0.02).has_value());
+}
+
+TEST(ConflictLabelTimeline, LoadsFromAFolderAndNamesBadLines) {
+  const std::string dir = test::freshDir("labels");
+  std::filesystem::create_directories(dir + "/mav0");
+  test::writeText(dir + "/mav0/conflict_labels.csv",
+                  "#timestamp [ns],in_conflict,motion,covered_fraction\n1000,0,none,0\n2000,1,elevator,0.9\n"
+                  "3000,1,elevator,0.9\n4000,0,none,0\n5000,1,vehicle,0.5\n");
+  const ConflictLabelTimeline labels = ConflictLabelTimeline::load(dir);
+  EXPECT_EQ(labels.conflictIntervals().size(), 2u);
+  EXPECT_EQ(labels.source(), dir + "/mav0/conflict_labels.csv");
+  test::writeText(dir + "/bad.csv", "#timestamp [ns],in_conflict,motion,covered_fraction\n1000,0,none,0\n2000,2,x,0\n");
+  try {
+    ConflictLabelTimeline::load(dir + "/bad.csv");
+    FAIL() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(dir + "/bad.csv:3"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("in_conflict"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ConflictLabelTimeline::load(test::freshDir("labels_none")), InputError);
+}
+
+TEST(DetectorLog, ReadsTheFullFormat) {
+  const std::string dir = test::freshDir("detector_full");
+  test::writeText(dir + "/conflict.csv", kHeader +
+                                             "1000,none,1.5,12.59,40,2,0.05,0,0,reference\n"
+                                             "2000,suspected,20.0,12.59,38,10,0.26,0.9,2000,imu\n"
+                                             "3000,conflict,30.5,12.59,35,20,0.57,0.95,2000,imu\n");
+  const DetectorLog log = DetectorLog::load(dir + "/conflict.csv");
+  ASSERT_EQ(log.size(), 3u);
+  EXPECT_TRUE(log.hasColumn("coherence"));
+  const auto& r = log.records()[2];
+  EXPECT_EQ(r.t, 3000);
+  EXPECT_EQ(r.state, DetectorRecord::State::kConflict);
+  EXPECT_DOUBLE_EQ(r.propagated_chi2, 30.5);
+  EXPECT_EQ(r.landmarks_tested, 35);
+  EXPECT_EQ(r.landmarks_inconsistent, 20);
+  EXPECT_DOUBLE_EQ(r.inconsistent_fraction, 0.57);
+  EXPECT_EQ(r.interval_start, 2000);
+  EXPECT_EQ(r.resolution_mode, "imu");
+  EXPECT_NEAR(r.propagatedRatio(), 30.5 / 12.59, 1e-12);
+}
+
+TEST(DetectorLog, ToleratesMissingOptionalColumnsInAnyOrder) {
+  const std::string dir = test::freshDir("detector_partial");
+  test::writeText(dir + "/conflict.csv", "# state,inconsistent_fraction,timestamp_ns\nnone,0.1,1000\nconflict,0.7,2000\n");
+  const DetectorLog log = DetectorLog::load(dir + "/conflict.csv");
+  ASSERT_EQ(log.size(), 2u);
+  EXPECT_FALSE(log.hasColumn("propagated_chi2"));
+  EXPECT_TRUE(std::isnan(log.records()[1].propagated_chi2));
+  EXPECT_EQ(log.records()[1].t, 2000);
+  EXPECT_DOUBLE_EQ(log.records()[1].inconsistent_fraction, 0.7);
+  EXPECT_EQ(log.records()[1].landmarks_tested, -1);
+}
+
+TEST(DetectorLog, MalformedLinesNameFileLineAndColumn) {
+  std::string path;
+  std::string e = loadError("det_state", kHeader + "1000,none,1,12,4,0,0,0,0,reference\n2000,maybe,1,12,4,0,0,0,0,reference\n", &path);
+  EXPECT_NE(e.find(path + ":3:"), std::string::npos) << e;
+  EXPECT_NE(e.find("'state'"), std::string::npos) << e;
+
+  e = loadError("det_number", kHeader + "1000,none,abc,12,4,0,0,0,0,reference\n", &path);
+  EXPECT_NE(e.find(path + ":2:"), std::string::npos) << e;
+  EXPECT_NE(e.find("propagated_chi2"), std::string::npos) << e;
+
+  e = loadError("det_columns", kHeader + "1000,none,1,12,4,0,0\n", &path);
+  EXPECT_NE(e.find(path + ":2:"), std::string::npos) << e;
+  EXPECT_NE(e.find("7 columns"), std::string::npos) << e;
+
+  e = loadError("det_time", kHeader + "2000,none,1,12,4,0,0,0,0,reference\n1000,none,1,12,4,0,0,0,0,reference\n", &path);
+  EXPECT_NE(e.find(path + ":3:"), std::string::npos) << e;
+  EXPECT_NE(e.find("does not increase"), std::string::npos) << e;
+
+  e = loadError("det_header", "timestamp_ns,propagated_chi2\n1000,1\n", &path);
+  EXPECT_NE(e.find(path), std::string::npos) << e;
+  EXPECT_NE(e.find("'state'"), std::string::npos) << e;
+
+  e = loadError("det_count", kHeader + "1000,none,1,12,-4,0,0,0,0,reference\n", &path);
+  EXPECT_NE(e.find("landmarks_tested"), std::string::npos) << e;
+
+  EXPECT_THROW(DetectorLog::load(test::freshDir("det_missing") + "/conflict.csv"), InputError);
+}
+
+}  // namespace
+}  // namespace mcvio::evaluation
