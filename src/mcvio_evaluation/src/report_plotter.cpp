@@ -1,0 +1,161 @@
+#include "mcvio/evaluation/report_plotter.hpp"
+
+#include <cstdio>
+#include <filesystem>
+
+#include "mcvio/core/input_error.hpp"
+
+namespace mcvio::evaluation {
+
+namespace {
+
+const cv::Scalar kGroundTruth(30, 30, 30);
+const cv::Scalar kConflict(80, 130, 255);  // orange-red shading (BGR)
+const char* kConflictLabel = "labelled conflict";
+
+double since(Timestamp t, Timestamp t0) { return toSeconds(t - t0); }
+
+void shadeIntervals(PlotCanvas& canvas, const EvaluationReport& report, Timestamp t0) {
+  if (!report.labels) return;
+  for (const auto& i : report.labels->conflictIntervals()) {
+    canvas.addXBand(since(i.start, t0), since(i.end, t0), kConflict, kConflictLabel, 0.3);
+  }
+}
+
+std::string aucText(double auc) {
+  if (!std::isfinite(auc)) return "AUC n/a";
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "AUC %.3f", auc);
+  return buf;
+}
+
+}  // namespace
+
+cv::Scalar ReportPlotter::runColor(std::size_t i) {
+  // Tableau-like palette without grey and red-orange (ground truth and shading).
+  static const cv::Scalar palette[] = {{180, 119, 31}, {44, 160, 44}, {189, 103, 148}, {34, 189, 188},
+                                       {207, 190, 23}, {194, 119, 227}, {75, 86, 140}};
+  return palette[i % (sizeof(palette) / sizeof(palette[0]))];
+}
+
+std::vector<std::string> ReportPlotter::write(const EvaluationReport& report, const std::string& dir,
+                                              const PlotStyle& style) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (!std::filesystem::is_directory(dir)) throw InputError(dir + ": cannot create report folder");
+  std::vector<std::string> written;
+  const Trajectory& gt = report.ground_truth;
+  const Timestamp t0 = gt.startTime();
+
+  // Top view.
+  {
+    PlotCanvas c("Trajectory, top view (runs aligned to ground truth, SE(3))", style);
+    c.setXLabel("x [m]");
+    c.setYLabel("y [m]");
+    c.setEqualAspect(true);
+    if (report.labels) {
+      for (const auto& interval : report.labels->conflictIntervals()) {
+        std::vector<double> x, y;
+        for (const auto& p : gt.poses()) {
+          if (p.t >= interval.start && p.t <= interval.end) {
+            x.push_back(p.p.x());
+            y.push_back(p.p.y());
+          }
+        }
+        c.addLine(x, y, kConflict, kConflictLabel, 14, false, 0.45);
+      }
+    }
+    std::vector<double> x, y;
+    for (const auto& p : gt.poses()) {
+      x.push_back(p.p.x());
+      y.push_back(p.p.y());
+    }
+    c.addLine(x, y, kGroundTruth, "ground truth", 2, true);
+    for (std::size_t i = 0; i < report.estimates.size(); ++i) {
+      std::vector<double> ex, ey;
+      for (const auto& p : report.estimates[i].ate_se3.aligned_estimate) {
+        ex.push_back(p.p.x());
+        ey.push_back(p.p.y());
+      }
+      c.addLine(ex, ey, runColor(i), report.estimates[i].name, 2);
+    }
+    written.push_back(dir + "/trajectory_top.png");
+    c.save(written.back());
+  }
+  // Side view: height over time.
+  {
+    PlotCanvas c("Height over time (runs aligned to ground truth, SE(3))", style);
+    c.setXLabel("time since ground-truth start [s]");
+    c.setYLabel("z [m]");
+    shadeIntervals(c, report, t0);
+    std::vector<double> t, z;
+    for (const auto& p : gt.poses()) {
+      t.push_back(since(p.t, t0));
+      z.push_back(p.p.z());
+    }
+    c.addLine(t, z, kGroundTruth, "ground truth", 2, true);
+    for (std::size_t i = 0; i < report.estimates.size(); ++i) {
+      std::vector<double> et, ez;
+      for (const auto& p : report.estimates[i].ate_se3.aligned_estimate) {
+        et.push_back(since(p.t, t0));
+        ez.push_back(p.p.z());
+      }
+      c.addLine(et, ez, runColor(i), report.estimates[i].name, 2);
+    }
+    written.push_back(dir + "/trajectory_side.png");
+    c.save(written.back());
+  }
+  // Error over time.
+  {
+    PlotCanvas c("Absolute position error over time (SE(3) alignment)", style);
+    c.setXLabel("time since ground-truth start [s]");
+    c.setYLabel("position error [m]");
+    shadeIntervals(c, report, t0);
+    double max_error = 0;
+    for (std::size_t i = 0; i < report.estimates.size(); ++i) {
+      const auto& ate = report.estimates[i].ate_se3;
+      std::vector<double> t;
+      for (const auto& p : ate.aligned_estimate) t.push_back(since(p.t, t0));
+      for (double e : ate.translation_errors) max_error = std::max(max_error, e);
+      char label[160];
+      std::snprintf(label, sizeof(label), "%s (RMSE %.3f m)", report.estimates[i].name.c_str(), ate.translation.rmse);
+      c.addLine(t, ate.translation_errors, runColor(i), label, 2);
+    }
+    // Errors are >= 0: start the axis at zero.
+    c.setYRange(0, max_error > 0 ? max_error * 1.08 : 1.0);
+    if (!gt.empty()) c.setXRange(0, std::max(gt.durationSeconds(), 1e-3));
+    written.push_back(dir + "/error_over_time.png");
+    c.save(written.back());
+  }
+  // ROC.
+  bool any_roc = false;
+  for (const auto& e : report.estimates) any_roc = any_roc || (e.detection && !e.detection->roc.empty());
+  if (any_roc) {
+    PlotCanvas c("Conflict detection ROC (per frame)", style);
+    c.setXLabel("false positive rate");
+    c.setYLabel("true positive rate");
+    // A little room so curves along the edges are not hidden by the frame.
+    c.setXRange(-0.02, 1.02);
+    c.setYRange(-0.02, 1.02);
+    c.addLine({0, 1}, {0, 1}, cv::Scalar(160, 160, 160), "chance", 1, true);
+    for (std::size_t i = 0; i < report.estimates.size(); ++i) {
+      const auto& e = report.estimates[i];
+      if (!e.detection) continue;
+      for (const auto& roc : e.detection->roc) {
+        std::vector<double> fpr, tpr;
+        for (const auto& p : roc.points) {
+          fpr.push_back(p.fpr);
+          tpr.push_back(p.tpr);
+        }
+        const bool chi2 = roc.score == "propagated_chi2_ratio";
+        c.addLine(fpr, tpr, runColor(i),
+                  e.name + (chi2 ? ", chi2 / threshold (" : ", inconsistent fraction (") + aucText(roc.auc) + ")", 2, !chi2);
+      }
+    }
+    written.push_back(dir + "/roc.png");
+    c.save(written.back());
+  }
+  return written;
+}
+
+}  // namespace mcvio::evaluation
