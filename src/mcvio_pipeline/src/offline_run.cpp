@@ -1,21 +1,29 @@
 #include "mcvio/pipeline/offline_run.hpp"
 
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <chrono>
-#include <functional>
-#include <map>
-#include <memory>
 #include <cstdio>
+#include <ctime>
+#include <exception>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <iostream>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <sstream>
+#include <thread>
 
 #include <nlohmann/json.hpp>
 
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/core/progress_bar.hpp"
 #include "mcvio/bag/bag_reader.hpp"
+#include "mcvio/pipeline/bounded_queue.hpp"
 #include "mcvio/dataset/euroc_dataset.hpp"
 #include "mcvio/dataset/euroc_file_reader.hpp"
 #include "mcvio/rosmsg/cdr_codec.hpp"
@@ -26,6 +34,12 @@ namespace {
 struct StageStats {
   std::vector<double> values;
   void add(double v) { values.push_back(v); }
+  double median() const {
+    if (values.empty()) return 0;
+    auto v = values;
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  }
   nlohmann::json summary() const {
     if (values.empty()) return nlohmann::json::object();
     auto v = values;
@@ -37,16 +51,6 @@ struct StageStats {
   }
 };
 
-// The input of a run, whether from a EuRoC folder or a bag: IMU, and stereo frames whose images
-// are produced on demand.
-struct RunInput {
-  StereoRigCalibration calibration;
-  std::vector<ImuSample> imu;
-  std::vector<Timestamp> frame_times;
-  std::function<std::pair<cv::Mat, cv::Mat>(std::size_t)> images;
-  std::vector<std::string> warnings;
-};
-
 Timestamp stampOf(const rosmsg::MessageValue& msg) {
   const auto& stamp = msg["header"]["stamp"];
   return std::get<std::int64_t>(stamp["sec"].value) * 1000000000 +
@@ -55,12 +59,12 @@ Timestamp stampOf(const rosmsg::MessageValue& msg) {
 
 double number(const rosmsg::MessageValue& v) { return std::get<double>(v.value); }
 
-RunInput readBag(const OfflineRunOptions& options) {
+OfflineInput readBag(const OfflineRunOptions& options) {
   if (options.calibration_dir.empty()) {
     throw InputError(options.dataset_dir + " is a bag: give --calib DIR (EuRoC sensor.yaml folder); "
                      "camera_info carries no stereo extrinsics");
   }
-  RunInput in;
+  OfflineInput in;
   in.calibration = dataset::EurocFileReader::readCalibration(options.calibration_dir);
   bag::BagReaderOptions ro;
   ro.topics = {"/cam0/image_raw", "/cam1/image_raw", "/imu0"};
@@ -113,9 +117,9 @@ RunInput readBag(const OfflineRunOptions& options) {
   return in;
 }
 
-RunInput readEuroc(const OfflineRunOptions& options) {
+OfflineInput readEuroc(const OfflineRunOptions& options) {
   auto data = std::make_shared<dataset::EurocDataset>(dataset::EurocDataset::open(options.dataset_dir));
-  RunInput in;
+  OfflineInput in;
   in.calibration = options.calibration_dir.empty() ? data->calibration()
                                                    : dataset::EurocFileReader::readCalibration(options.calibration_dir);
   in.imu = data->imu();
@@ -128,83 +132,250 @@ RunInput readEuroc(const OfflineRunOptions& options) {
   return in;
 }
 
-}  // namespace
+nlohmann::json stageSummaries(const std::map<std::string, StageStats>& stages) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [name, stats] : stages) j[name] = stats.summary();
+  return j;
+}
 
-OfflineRunSummary runOffline(const OfflineRunOptions& options) {
-  using Clock = std::chrono::steady_clock;
-  namespace fs = std::filesystem;
-  const fs::path p(options.dataset_dir);
-  const bool is_bag = fs::exists(p / "metadata.yaml") || p.extension() == ".mcap" || p.extension() == ".db3";
-  const RunInput data = is_bag ? readBag(options) : readEuroc(options);
-  for (const auto& w : data.warnings) std::cerr << "mcvio run: warning: " << w << "\n";
-  if (data.frame_times.empty()) throw InputError(options.dataset_dir + ": no stereo frames to run on");
-  if (data.imu.empty()) throw InputError(options.dataset_dir + ": no IMU samples");
-  const auto vio_options = options.config_file.empty() ? VioPipelineOptions{} : VioPipelineOptions::fromYamlFile(options.config_file);
-  std::filesystem::create_directories(options.output_dir);
-  const std::string tum_path = options.output_dir + "/trajectory.tum";
-  std::ofstream tum(tum_path);
-  if (!tum) throw InputError("cannot write " + tum_path);
-  tum << "# t x y z qx qy qz qw  (pose of imu0 in world; t in seconds)\n" << std::setprecision(9) << std::fixed;
+double threadCpuMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
+}
 
-  VioPipeline vio(data.calibration, vio_options);
-  OfflineRunSummary summary;
-  StageStats frontend_ms, backend_ms, features, stereo, landmarks;
-  std::size_t keyframes = 0, zero_velocity = 0, not_initialized = 0;
-  std::map<std::string, std::size_t> skip_reasons;
-  const auto& imu = data.imu;
-  std::size_t next_imu = 0;
-  ProgressBar bar("run", data.frame_times.size(), options.progress);
-  const auto start = Clock::now();
-  for (std::size_t i = 0; i < data.frame_times.size(); ++i) {
-    const Timestamp t = data.frame_times[i];
-    // Everything the IMU measured up to the image time comes first, as on the bus.
-    while (next_imu < imu.size() && imu[next_imu].t <= t) vio.addImu(imu[next_imu++]);
-    const auto images = data.images(i);
-    const auto r = vio.addFrame(t, images.first, images.second);
+double processCpuSeconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  const auto sec = [](const timeval& t) { return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_usec) * 1e-6; };
+  return sec(u.ru_utime) + sec(u.ru_stime);
+}
+
+double peakRssMb() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_maxrss) / 1024.0;  // Linux reports kB
+}
+
+/// The decoded images of one frame and what decoding cost.
+struct LoadedFrame {
+  std::size_t index = 0;
+  std::pair<cv::Mat, cv::Mat> images;
+  double cpu_ms = 0;
+};
+
+/// Takes each frame's result in frame order: writes the trajectory, keeps the statistics, draws
+/// the progress bar.
+class RunRecorder {
+ public:
+  RunRecorder(const std::string& tum_path, std::size_t frames, const OfflineRunOptions& options, double data_seconds)
+      : tum_(tum_path), bar_("run", frames, options.progress), on_frame_(options.on_frame), data_seconds_(data_seconds),
+        frames_total_(frames) {
+    if (!tum_) throw InputError("cannot write " + tum_path);
+    tum_ << "# t x y z qx qy qz qw  (pose of imu0 in world; t in seconds)\n" << std::setprecision(9) << std::fixed;
+  }
+
+  void add(std::size_t i, const VioFrameResult& r, double load_cpu_ms) {
+    if (on_frame_) on_frame_(i, r);
     ++summary.frames;
+    loader_ms.add(load_cpu_ms);
     frontend_ms.add(r.tracking.stats.cpu_ms_total);
     if (!r.estimated) {
       ++summary.skipped;
       ++skip_reasons[r.tracking.message];
-      continue;
+    } else {
+      features.add(r.tracking.stats.tracked + r.tracking.stats.detected);
+      stereo.add(r.tracking.stats.stereo_matched);
+      const auto& e = r.estimate;
+      backend_ms.add(e.timings.cpu_total_ms);
+      backend_stage_ms["preintegration"].add(e.timings.preintegration_ms);
+      backend_stage_ms["setup"].add(e.timings.setup_ms);
+      backend_stage_ms["solve"].add(e.timings.solve_ms);
+      backend_stage_ms["marginalization"].add(e.timings.marginalization_ms);
+      backend_stage_ms["covariance"].add(e.timings.covariance_ms);
+      backend_stage_ms["total"].add(e.timings.total_ms);
+      iterations.add(e.solver_iterations);
+      if (e.status == estimator::EstimatorStatus::kReset) ++summary.resets;
+      if (e.status == estimator::EstimatorStatus::kNotInitialized) ++not_initialized;
+      keyframes += e.is_keyframe;
+      zero_velocity += e.zero_velocity;
+      landmarks.add(e.num_landmarks);
+      if (e.status == estimator::EstimatorStatus::kTracking && e.frame_accepted) {
+        ++summary.estimated;
+        tum_ << toSeconds(e.t) << ' ' << e.p_WB.x() << ' ' << e.p_WB.y() << ' ' << e.p_WB.z() << ' ' << e.q_WB.x()
+             << ' ' << e.q_WB.y() << ' ' << e.q_WB.z() << ' ' << e.q_WB.w() << '\n';
+      }
     }
-    features.add(r.tracking.stats.tracked + r.tracking.stats.detected);
-    stereo.add(r.tracking.stats.stereo_matched);
-    const auto& e = r.estimate;
-    backend_ms.add(e.timings.cpu_total_ms);
-    if (e.status == estimator::EstimatorStatus::kReset) ++summary.resets;
-    if (e.status == estimator::EstimatorStatus::kNotInitialized) ++not_initialized;
-    keyframes += e.is_keyframe;
-    zero_velocity += e.zero_velocity;
-    landmarks.add(e.num_landmarks);
-    if (e.status == estimator::EstimatorStatus::kTracking && e.frame_accepted) {
-      ++summary.estimated;
-      tum << toSeconds(e.t) << ' ' << e.p_WB.x() << ' ' << e.p_WB.y() << ' ' << e.p_WB.z() << ' ' << e.q_WB.x() << ' '
-          << e.q_WB.y() << ' ' << e.q_WB.z() << ' ' << e.q_WB.w() << '\n';
+    if (i % 5 == 0 || i + 1 == frames_total_) {
+      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+      std::ostringstream detail;
+      detail << summary.estimated << " poses, " << std::setprecision(2) << std::fixed
+             << (wall > 0 ? data_seconds_ * static_cast<double>(i + 1) / static_cast<double>(frames_total_) / wall : 0.0)
+             << "x real time";
+      bar_.update(i + 1, detail.str());
     }
-    if (i % 5 == 0) bar.update(i + 1, std::to_string(summary.estimated) + " poses");
   }
-  bar.finish();
+
+  void finish() { bar_.finish(); }
+
+  OfflineRunSummary summary;
+  StageStats loader_ms, frontend_ms, backend_ms, features, stereo, landmarks, iterations;
+  std::map<std::string, StageStats> backend_stage_ms;  ///< wall time of the estimator's stages
+  std::size_t keyframes = 0, zero_velocity = 0, not_initialized = 0;
+  std::map<std::string, std::size_t> skip_reasons;
+
+ private:
+  std::ofstream tum_;
+  ProgressBar bar_;
+  std::function<void(std::size_t, const VioFrameResult&)> on_frame_;
+  const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  double data_seconds_;
+  std::size_t frames_total_;
+};
+
+/// The IMU samples after frame i-1 up to frame i (all up to the first frame for i = 0): what a
+/// bus delivers before the image.
+std::vector<ImuSample> imuUpTo(const std::vector<ImuSample>& imu, Timestamp t, std::size_t* next) {
+  std::vector<ImuSample> out;
+  while (*next < imu.size() && imu[*next].t <= t) out.push_back(imu[(*next)++]);
+  return out;
+}
+
+void runSequential(const OfflineInput& data, VioPipeline& vio, RunRecorder& rec) {
+  std::size_t next_imu = 0;
+  for (std::size_t i = 0; i < data.frame_times.size(); ++i) {
+    const Timestamp t = data.frame_times[i];
+    for (const auto& s : imuUpTo(data.imu, t, &next_imu)) vio.addImu(s);
+    const double c0 = threadCpuMs();
+    const auto images = data.images(i);
+    const double load_ms = threadCpuMs() - c0;
+    rec.add(i, vio.addFrame(t, images.first, images.second), load_ms);
+  }
+}
+
+// Decoding on one thread, the frontend on the calling thread, the estimator on a third. The
+// first error stops all three and is rethrown.
+void runPipelined(const OfflineInput& data, VioPipeline& vio, RunRecorder& rec) {
+  const std::size_t n = data.frame_times.size();
+  BoundedQueue<LoadedFrame> loaded(4);
+  BoundedQueue<std::pair<TrackedFrame, double>> tracked(2);
+  std::mutex error_mutex;
+  std::exception_ptr error;
+  const auto fail = [&] {
+    {
+      std::lock_guard<std::mutex> lock(error_mutex);
+      if (!error) error = std::current_exception();
+    }
+    loaded.close();
+    tracked.close();
+    vio.cancel();
+  };
+
+  std::thread loader([&] {
+    try {
+      for (std::size_t i = 0; i < n; ++i) {
+        LoadedFrame f;
+        f.index = i;
+        const double c0 = threadCpuMs();
+        f.images = data.images(i);
+        f.cpu_ms = threadCpuMs() - c0;
+        if (!loaded.push(std::move(f))) return;
+      }
+      loaded.close();
+    } catch (...) {
+      fail();
+    }
+  });
+  std::thread estimator([&] {
+    try {
+      while (auto item = tracked.pop()) {
+        const std::size_t i = item->first.index;
+        rec.add(i, vio.estimateFrame(std::move(item->first)), item->second);
+      }
+    } catch (...) {
+      fail();
+    }
+  });
+  try {
+    std::size_t next_imu = 0;
+    while (auto f = loaded.pop()) {
+      const Timestamp t = data.frame_times[f->index];
+      auto frame = vio.trackFrame(t, f->images.first, f->images.second, imuUpTo(data.imu, t, &next_imu));
+      f->images = {};
+      if (!tracked.push({std::move(frame), f->cpu_ms})) break;
+    }
+    tracked.close();
+  } catch (...) {
+    fail();
+  }
+  loader.join();
+  estimator.join();
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace
+
+OfflineRunSummary runOffline(const OfflineRunOptions& options) {
+  namespace fs = std::filesystem;
+  const fs::path p(options.dataset_dir);
+  const bool is_bag = fs::exists(p / "metadata.yaml") || p.extension() == ".mcap" || p.extension() == ".db3";
+  return runOffline(is_bag ? readBag(options) : readEuroc(options), options);
+}
+
+OfflineRunSummary runOffline(const OfflineInput& data, const OfflineRunOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  namespace fs = std::filesystem;
+  for (const auto& w : data.warnings) std::cerr << "mcvio run: warning: " << w << "\n";
+  if (data.frame_times.empty()) throw InputError(options.dataset_dir + ": no stereo frames to run on");
+  if (data.imu.empty()) throw InputError(options.dataset_dir + ": no IMU samples");
+  if (!data.images) throw InputError(options.dataset_dir + ": no image source");
+  const auto vio_options = options.config_file.empty() ? VioPipelineOptions{} : VioPipelineOptions::fromYamlFile(options.config_file);
+  fs::create_directories(options.output_dir);
+  const double data_seconds = toSeconds(data.frame_times.back() - data.frame_times.front());
+  RunRecorder rec(options.output_dir + "/trajectory.tum", data.frame_times.size(), options, data_seconds);
+
+  VioPipeline vio(data.calibration, vio_options);
+  const double cpu0 = processCpuSeconds();
+  const auto start = Clock::now();
+  if (options.pipelined) {
+    runPipelined(data, vio, rec);
+  } else {
+    runSequential(data, vio, rec);
+  }
+  rec.finish();
+  OfflineRunSummary summary = rec.summary;
   summary.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  summary.data_seconds = toSeconds(data.frame_times.back() - data.frame_times.front());
+  summary.cpu_seconds = processCpuSeconds() - cpu0;
+  summary.data_seconds = data_seconds;
+  summary.peak_rss_mb = peakRssMb();
+  summary.loader_median_cpu_ms = rec.loader_ms.median();
+  summary.frontend_median_cpu_ms = rec.frontend_ms.median();
+  summary.backend_median_cpu_ms = rec.backend_ms.median();
 
   nlohmann::json stats = {
       {"dataset", options.dataset_dir},
+      {"pipelined", options.pipelined},
       {"frames", summary.frames},
       {"poses", summary.estimated},
       {"skipped_frames", summary.skipped},
-      {"skip_reasons", skip_reasons},
-      {"not_initialized_frames", not_initialized},
+      {"skip_reasons", rec.skip_reasons},
+      {"not_initialized_frames", rec.not_initialized},
       {"resets", summary.resets},
-      {"keyframes", keyframes},
-      {"zero_velocity_frames", zero_velocity},
+      {"keyframes", rec.keyframes},
+      {"zero_velocity_frames", rec.zero_velocity},
       {"wall_seconds", summary.wall_seconds},
+      {"cpu_seconds", summary.cpu_seconds},
       {"data_seconds", summary.data_seconds},
-      {"realtime_factor", summary.wall_seconds > 0 ? summary.data_seconds / summary.wall_seconds : 0.0},
-      {"cpu_ms_per_frame", {{"frontend", frontend_ms.summary()}, {"backend", backend_ms.summary()}}},
-      {"features_per_frame", features.summary()},
-      {"stereo_matches_per_frame", stereo.summary()},
-      {"landmarks_in_window", landmarks.summary()},
+      {"frames_per_second", summary.framesPerSecond()},
+      {"realtime_factor", summary.realtimeFactor()},
+      {"peak_rss_mb", summary.peak_rss_mb},
+      {"cpu_ms_per_frame",
+       {{"image_loading", rec.loader_ms.summary()}, {"frontend", rec.frontend_ms.summary()}, {"backend", rec.backend_ms.summary()}}},
+      {"backend_wall_ms_per_frame", stageSummaries(rec.backend_stage_ms)},
+      {"solver_iterations", rec.iterations.summary()},
+      {"features_per_frame", rec.features.summary()},
+      {"stereo_matches_per_frame", rec.stereo.summary()},
+      {"landmarks_in_window", rec.landmarks.summary()},
       {"warnings", data.warnings}};
   std::ofstream(options.output_dir + "/stats.json") << stats.dump(2) << "\n";
   return summary;

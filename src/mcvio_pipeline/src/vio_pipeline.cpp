@@ -1,5 +1,8 @@
 #include "mcvio/pipeline/vio_pipeline.hpp"
 
+#include <algorithm>
+#include <stdexcept>
+
 #include <yaml-cpp/yaml.h>
 
 #include "mcvio/core/input_error.hpp"
@@ -38,18 +41,74 @@ void VioPipeline::addImu(const ImuSample& sample) {
 }
 
 VioFrameResult VioPipeline::addFrame(Timestamp t, const cv::Mat& left, const cv::Mat& right) {
-  VioFrameResult r;
+  std::vector<ImuSample> imu;
+  imu.swap(imu_since_frame_);
+  return estimate(track(t, left, right, std::move(imu)));
+}
+
+TrackedFrame VioPipeline::trackFrame(Timestamp t, const cv::Mat& left, const cv::Mat& right,
+                                     std::vector<ImuSample> imu) {
+  TrackedFrame f;
+  f.index = next_track_index_;
+  f.imu = imu;
+  f.tracking = track(t, left, right, std::move(imu));
+  return f;
+}
+
+VioFrameResult VioPipeline::estimateFrame(TrackedFrame frame) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (frame.index != estimated_frames_) {
+      throw std::logic_error("VioPipeline::estimateFrame: frame " + std::to_string(frame.index) +
+                             " out of order (expected " + std::to_string(estimated_frames_) + ")");
+    }
+  }
+  for (const auto& s : frame.imu) estimator_.addImu(s);
+  return estimate(std::move(frame.tracking));
+}
+
+void VioPipeline::cancel() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  cancelled_ = true;
+  estimated_cv_.notify_all();
+}
+
+frontend::TrackingResult VioPipeline::track(Timestamp t, const cv::Mat& left, const cv::Mat& right,
+                                            std::vector<ImuSample> imu) {
+  const std::size_t index = next_track_index_++;
+  Eigen::Vector3d bias = Eigen::Vector3d::Zero();
+  if (index >= 2) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    estimated_cv_.wait(lock, [&] { return cancelled_ || estimated_frames_ + 2 > index; });
+    if (cancelled_) throw std::runtime_error("VioPipeline: cancelled while waiting for the estimator");
+    const auto it = std::find_if(bias_after_.begin(), bias_after_.end(),
+                                 [&](const auto& b) { return b.first == index - 2; });
+    if (it == bias_after_.end()) throw std::logic_error("VioPipeline: gyro bias of frame " + std::to_string(index - 2) + " is gone");
+    bias = it->second;
+  }
+  tracker_.setGyroBias(bias);
   frontend::StereoInput in;
   in.t = t;
   in.left = left;
   in.right = right;
-  in.imu.swap(imu_since_frame_);
-  r.tracking = tracker_.track(in);
-  if (!r.tracking.ok()) return r;
-  r.estimate = estimator_.addFrame(r.tracking.features);
-  r.estimated = true;
-  // The frontend predicts flow with the gyro: give it the estimator's bias once it has one.
-  if (r.estimate.status == estimator::EstimatorStatus::kTracking) tracker_.setGyroBias(r.estimate.bias.gyro);
+  in.imu = std::move(imu);
+  return tracker_.track(in);
+}
+
+VioFrameResult VioPipeline::estimate(frontend::TrackingResult tracking) {
+  VioFrameResult r;
+  r.tracking = std::move(tracking);
+  if (r.tracking.ok()) {
+    r.estimate = estimator_.addFrame(r.tracking.features);
+    r.estimated = true;
+    if (r.estimate.status == estimator::EstimatorStatus::kTracking) gyro_bias_ = r.estimate.bias.gyro;
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  bias_after_.emplace_back(estimated_frames_, gyro_bias_);
+  // The frontend is at most two frames ahead of the estimator.
+  while (bias_after_.size() > 4) bias_after_.pop_front();
+  ++estimated_frames_;
+  estimated_cv_.notify_all();
   return r;
 }
 

@@ -1,5 +1,11 @@
 #pragma once
+#include <cstddef>
+#include <functional>
 #include <string>
+#include <utility>
+#include <vector>
+
+#include <opencv2/core/mat.hpp>
 
 #include "mcvio/pipeline/vio_pipeline.hpp"
 
@@ -12,18 +18,45 @@ struct OfflineRunOptions {
   std::string output_dir;   ///< trajectory.tum, stats.json
   std::string config_file;  ///< VioPipelineOptions YAML; empty = defaults
   bool progress = true;
+  /// Image decoding, frontend and estimator on three threads, each a frame or more ahead of the
+  /// next (the estimator sees the same input as with false, so the trajectory is the same);
+  /// false: everything on the calling thread, one frame after the other.
+  bool pipelined = true;
+  /// Called with every frame's result, in frame order, from the thread that runs the estimator.
+  std::function<void(std::size_t frame, const VioFrameResult& result)> on_frame;
 };
 
 struct OfflineRunSummary {
   std::size_t frames = 0, estimated = 0, skipped = 0, resets = 0;
   double wall_seconds = 0, data_seconds = 0;
+  double cpu_seconds = 0;       ///< user + system CPU of the process during the run
+  double peak_rss_mb = 0;       ///< peak resident memory of the process so far (getrusage ru_maxrss)
+  double frontend_median_cpu_ms = 0, backend_median_cpu_ms = 0, loader_median_cpu_ms = 0;  ///< per frame
+  double framesPerSecond() const { return wall_seconds > 0 ? static_cast<double>(frames) / wall_seconds : 0.0; }
+  double realtimeFactor() const { return wall_seconds > 0 ? data_seconds / wall_seconds : 0.0; }
+};
+
+/// The input of an offline run: what runOffline() reads from a EuRoC folder or a bag, or what a
+/// caller produces itself (a simulator rendering on the fly).
+struct OfflineInput {
+  StereoRigCalibration calibration;
+  std::vector<ImuSample> imu;          ///< time order
+  std::vector<Timestamp> frame_times;  ///< time order
+  /// Left and right mono8 images of frame i. Called once per frame, in frame order, from one
+  /// thread that may run a few frames ahead of the frontend.
+  std::function<std::pair<cv::Mat, cv::Mat>(std::size_t)> images;
+  std::vector<std::string> warnings;  ///< printed at the start of the run and kept in stats.json
 };
 
 /// `mcvio run`: the whole pipeline over a EuRoC folder or a recorded bag without DDS, deterministic.
 /// A bag is read into memory first (images included): fine for minutes, not for hours. Writes
 /// OUT/trajectory.tum (t x y z qx qy qz qw per tracked frame, pose of imu0 in world, t in s) and
-/// OUT/stats.json (per-stage timing, features, keyframes, statuses). Throws mcvio::InputError for
-/// bad input.
+/// OUT/stats.json (per-stage CPU time, wall time, frames/s, real-time factor, peak memory,
+/// features, keyframes, statuses). Throws mcvio::InputError for bad input.
 OfflineRunSummary runOffline(const OfflineRunOptions& options);
+
+/// The same run over an input the caller holds; options.dataset_dir only names it in stats.json
+/// and options.calibration_dir is not used.
+OfflineRunSummary runOffline(const OfflineInput& input, const OfflineRunOptions& options);
 
 }  // namespace mcvio::pipeline

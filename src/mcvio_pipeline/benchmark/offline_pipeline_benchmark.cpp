@@ -1,0 +1,200 @@
+// Speed, memory and accuracy of `mcvio run` (runOffline) on 60 s clean sequences: the rendered
+// office (`none`), semi-real V1_01 (rendered along the real ground truth with the real IMU) and
+// the real standing V1_01 excerpt. Renders the sequences once into a folder and reuses them.
+// Each render and each run happens in a child process, so the peak memory (getrusage) is the
+// run's own. Prints one Markdown table.
+//
+//   mcvio_pipeline_benchmark [--data DIR] [--seconds S] [--sequential] [--only NAME]
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "../test/clean_sequences.hpp"
+#include "../test/run_accuracy.hpp"
+#include "mcvio/dataset/euroc_dataset.hpp"
+#include "mcvio/pipeline/offline_run.hpp"
+#include "mcvio/sim/simulator.hpp"
+
+using namespace mcvio;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Sequence {
+  std::string name;
+  std::string dataset_dir;
+  std::string description;    // how it was made; a render is reused only if this matches
+  std::function<void()> render;  // empty: the dataset exists already
+};
+
+std::string loadAverage() {
+  std::ifstream in("/proc/loadavg");
+  std::string a, b, c;
+  in >> a >> b >> c;
+  return a + " " + b + " " + c;
+}
+
+// Runs `fn` in a child process; false if it failed.
+bool inChild(const std::function<void()>& fn) {
+  std::cout.flush();
+  std::cerr.flush();
+  const pid_t pid = fork();
+  if (pid < 0) return false;
+  if (pid == 0) {
+    try {
+      fn();
+    } catch (const std::exception& e) {
+      std::cerr << "error: " << e.what() << "\n";
+      _exit(1);
+    }
+    _exit(0);
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+void ensureRendered(const Sequence& s) {
+  if (!s.render) return;
+  const std::string stamp = s.dataset_dir + "/mcvio_benchmark_stamp.txt";
+  std::ifstream in(stamp);
+  std::string have;
+  std::getline(in, have);
+  if (have == s.description && fs::exists(s.dataset_dir + "/mav0/cam1/data.csv")) {
+    std::cerr << s.name << ": reusing " << s.dataset_dir << "\n";
+    return;
+  }
+  std::cerr << s.name << ": rendering into " << s.dataset_dir << " ...\n";
+  if (!inChild(s.render)) throw std::runtime_error("rendering " + s.name + " failed");
+  std::ofstream(stamp) << s.description << "\n";
+}
+
+// The run and its evaluation, in a child; results in OUT/benchmark.json.
+void runOne(const Sequence& s, const std::string& out, bool pipelined) {
+  pipeline::OfflineRunOptions o;
+  o.dataset_dir = s.dataset_dir;
+  o.output_dir = out;
+  o.progress = isatty(2);
+  o.pipelined = pipelined;
+  pipeline::sequences::CovarianceLog covariances;
+  o.on_frame = [&](std::size_t, const pipeline::VioFrameResult& r) { covariances.add(r); };
+  const auto sum = pipeline::runOffline(o);
+  const auto gt = dataset::EurocDataset::open(s.dataset_dir).groundTruth();
+  const auto a = pipeline::sequences::evaluateRun(out + "/trajectory.tum", gt, covariances);
+  const nlohmann::json j = {{"frames", sum.frames},
+                            {"poses", a.poses},
+                            {"resets", sum.resets},
+                            {"ate_pos_yaw", a.ate_pos_yaw_rmse},
+                            {"ate_se3", a.ate_se3_rmse},
+                            {"rpe_1s", a.rpe_1s_translation_rmse},
+                            {"rpe_1s_deg", a.rpe_1s_rotation_rmse_deg},
+                            {"nees", a.position_nees},
+                            {"backend_ms", sum.backend_median_cpu_ms},
+                            {"frontend_ms", sum.frontend_median_cpu_ms},
+                            {"loader_ms", sum.loader_median_cpu_ms},
+                            {"wall_s", sum.wall_seconds},
+                            {"cpu_s", sum.cpu_seconds},
+                            {"data_s", sum.data_seconds},
+                            {"realtime", sum.realtimeFactor()},
+                            {"rss_mb", sum.peak_rss_mb}};
+  std::ofstream(out + "/benchmark.json") << j.dump(2) << "\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string data = "/tmp/mcvio_pipeline_benchmark", only;
+  double seconds = 60.0;
+  bool pipelined = true;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--data" && i + 1 < argc) data = argv[++i];
+    else if (a == "--seconds" && i + 1 < argc) seconds = std::stod(argv[++i]);
+    else if (a == "--only" && i + 1 < argc) only = argv[++i];
+    else if (a == "--sequential") pipelined = false;
+    else {
+      std::cerr << "usage: " << argv[0] << " [--data DIR] [--seconds S] [--sequential] [--only NAME]\n";
+      return 2;
+    }
+  }
+  fs::create_directories(data);
+  std::ostringstream secs;
+  secs << seconds;
+  std::vector<Sequence> sequences;
+  {
+    Sequence s;
+    s.name = "rendered_none_" + secs.str() + "s";
+    s.dataset_dir = data + "/" + s.name;
+    s.description = "none seed 1 duration " + secs.str();
+    s.render = [dir = s.dataset_dir, seconds] {
+      auto o = pipeline::sequences::renderedNone(seconds, 1);
+      o.output_dir = dir;
+      sim::Simulator(o).writeDataset();
+    };
+    sequences.push_back(s);
+  }
+  const auto excerpt = pipeline::sequences::realExcerptDir();
+  if (!excerpt.empty()) {
+    Sequence s;
+    s.name = "semi_real_v101_" + secs.str() + "s";
+    s.dataset_dir = data + "/" + s.name;
+    s.description = "semi-real V1_01 first " + secs.str() + " s from " + excerpt;
+    s.render = [dir = s.dataset_dir, excerpt, seconds, data] {
+      auto o = pipeline::sequences::semiRealV101(excerpt, data + "/semi_real_csv", seconds);
+      o.output_dir = dir;
+      sim::Simulator(o).writeDataset();
+    };
+    sequences.push_back(s);
+    Sequence r;
+    r.name = "real_v101_excerpt_standing";
+    r.dataset_dir = excerpt;
+    sequences.push_back(r);
+  } else {
+    std::cerr << "no $MCVIO_SHARED_DIR/data/euroc_V1_01_excerpt: semi-real and real rows skipped\n";
+  }
+
+  const std::string load_before = loadAverage();
+  std::vector<std::pair<std::string, nlohmann::json>> rows;
+  for (const auto& s : sequences) {
+    if (!only.empty() && s.name != only) continue;
+    ensureRendered(s);
+    const std::string out = data + "/run_" + s.name + (pipelined ? "" : "_sequential");
+    std::cerr << s.name << ": running (" << (pipelined ? "pipelined" : "sequential") << "), load " << loadAverage() << "\n";
+    if (!inChild([&] { runOne(s, out, pipelined); })) {
+      std::cerr << s.name << ": run failed\n";
+      continue;
+    }
+    std::ifstream in(out + "/benchmark.json");
+    rows.emplace_back(s.name, nlohmann::json::parse(in));
+  }
+
+  std::cout << "\n" << (pipelined ? "pipelined" : "sequential") << " runOffline; load average before " << load_before
+            << ", after " << loadAverage() << " (2 cores)\n\n";
+  std::cout << "| sequence | frames | poses | resets | ATE pos+yaw [m] | ATE SE3 [m] | RPE 1 s [m / deg] | NEES pos "
+               "| backend median [ms CPU] | frontend median [ms CPU] | decode median [ms CPU] | wall [s] | CPU [s] "
+               "| real-time factor | peak RSS [MB] |\n";
+  std::cout << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  std::cout << std::fixed;
+  for (const auto& [name, j] : rows) {
+    std::cout << "| " << name << " | " << j["frames"] << " | " << j["poses"] << " | " << j["resets"] << " | "
+              << std::setprecision(3) << j["ate_pos_yaw"].get<double>() << " | " << j["ate_se3"].get<double>() << " | "
+              << j["rpe_1s"].get<double>() << " / " << std::setprecision(2) << j["rpe_1s_deg"].get<double>() << " | "
+              << j["nees"].get<double>() << " | " << std::setprecision(1) << j["backend_ms"].get<double>() << " | "
+              << j["frontend_ms"].get<double>() << " | " << j["loader_ms"].get<double>() << " | "
+              << j["wall_s"].get<double>() << " | " << j["cpu_s"].get<double>() << " | " << std::setprecision(2)
+              << j["realtime"].get<double>() << "x | " << std::setprecision(0) << j["rss_mb"].get<double>() << " |\n";
+  }
+  return rows.empty() ? 1 : 0;
+}

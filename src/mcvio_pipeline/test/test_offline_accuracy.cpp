@@ -1,0 +1,71 @@
+// Accuracy of the whole offline pipeline (real frontend on rendered images + estimator) on clean
+// 60 s sequences: the synthetic office (`none`) and semi-real V1_01 (rendered along the real
+// ground truth, real IMU). Each test renders its frames while the run consumes them.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <iostream>
+#include <unistd.h>
+
+#include "clean_sequences.hpp"
+#include "mcvio/pipeline/offline_run.hpp"
+#include "mcvio/sim/simulator.hpp"
+#include "run_accuracy.hpp"
+
+using namespace mcvio;
+using pipeline::sequences::CovarianceLog;
+
+namespace {
+
+// The bound for 60 s clean sequences, after position + yaw alignment.
+constexpr double kMaxAteM = 0.05;
+
+pipeline::sequences::RunAccuracy runAndEvaluate(const sim::Simulator& simulator, const std::string& name,
+                                                pipeline::OfflineRunSummary* summary) {
+  const std::string out = ::testing::TempDir() + "/accuracy_" + name + "_" + std::to_string(getpid());
+  pipeline::OfflineRunOptions o;
+  o.dataset_dir = name;
+  o.output_dir = out;
+  o.progress = false;
+  CovarianceLog covariances;
+  o.on_frame = [&](std::size_t, const pipeline::VioFrameResult& r) { covariances.add(r); };
+  *summary = pipeline::runOffline(pipeline::sequences::renderedInput(simulator), o);
+  const auto a = pipeline::sequences::evaluateRun(out + "/trajectory.tum", simulator.groundTruth(), covariances);
+  std::cout << name << ": " << summary->frames << " frames, " << a.poses << " poses, " << summary->resets
+            << " resets, ATE pos+yaw " << a.ate_pos_yaw_rmse << " m (max " << a.ate_pos_yaw_max << "), ATE SE3 "
+            << a.ate_se3_rmse << " m, RPE 1 s " << a.rpe_1s_translation_rmse << " m / " << a.rpe_1s_rotation_rmse_deg
+            << " deg, position NEES " << a.position_nees << " over " << a.nees_frames << " frames\n";
+  ::testing::Test::RecordProperty("ate_pos_yaw_m", std::to_string(a.ate_pos_yaw_rmse));
+  ::testing::Test::RecordProperty("position_nees", std::to_string(a.position_nees));
+  std::filesystem::remove_all(out);
+  return a;
+}
+
+}  // namespace
+
+TEST(OfflineAccuracy, RenderedOffice60sNoneScenario) {
+  const sim::Simulator simulator(pipeline::sequences::renderedNone(60.0, 1));
+  pipeline::OfflineRunSummary s;
+  const auto a = runAndEvaluate(simulator, "rendered_none_60s", &s);
+  EXPECT_EQ(s.frames, simulator.frameTimes().size());
+  EXPECT_EQ(s.resets, 0u);
+  EXPECT_EQ(s.skipped, 0u);
+  // Initialisation waits for 1 s of IMU; everything after it must be tracked.
+  EXPECT_GE(a.poses + 25, s.frames);
+  EXPECT_LE(a.ate_pos_yaw_rmse, kMaxAteM);
+}
+
+TEST(OfflineAccuracy, SemiRealV101First60s) {
+  const auto excerpt = pipeline::sequences::realExcerptDir();
+  if (excerpt.empty()) GTEST_SKIP() << "no $MCVIO_SHARED_DIR/data/euroc_V1_01_excerpt";
+  const std::string work = ::testing::TempDir() + "/semi_real_csv_" + std::to_string(getpid());
+  const sim::Simulator simulator(pipeline::sequences::semiRealV101(excerpt, work, 60.0));
+  std::filesystem::remove_all(work);
+  pipeline::OfflineRunSummary s;
+  const auto a = runAndEvaluate(simulator, "semi_real_v101_60s", &s);
+  EXPECT_EQ(s.frames, simulator.frameTimes().size());
+  EXPECT_EQ(s.resets, 0u);
+  EXPECT_EQ(s.skipped, 0u);
+  EXPECT_GE(a.poses + 25, s.frames);
+  EXPECT_LE(a.ate_pos_yaw_rmse, kMaxAteM);
+}
