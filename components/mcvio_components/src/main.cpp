@@ -57,6 +57,7 @@ int main(int argc, char** argv) {
   addRecordCommand(app, ctx);
   addBagCommand(app, ctx);
   addFrontendCommand(app, ctx);
+  addBackendCommand(app, ctx);
   addRunCommand(app, ctx);
   mcvio::dds::ShutdownSignal::install();
   try {

@@ -1,5 +1,8 @@
 #include "mcvio/components/ros_conversions.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 namespace mcvio::components {
@@ -130,6 +133,150 @@ FeatureFrame fromFeatureFrameMsg(const mcvio_msgs::msg::dds_::FeatureFrame_& msg
     f.features.push_back(o);
   }
   return f;
+}
+
+namespace {
+
+void setPose(geometry_msgs::msg::dds_::Pose_& pose, const Eigen::Vector3d& p, const Eigen::Quaterniond& q) {
+  pose.position().x(p.x());
+  pose.position().y(p.y());
+  pose.position().z(p.z());
+  pose.orientation().x(q.x());
+  pose.orientation().y(q.y());
+  pose.orientation().z(q.z());
+  pose.orientation().w(q.w());
+}
+
+void setVector(geometry_msgs::msg::dds_::Vector3_& v, const Eigen::Vector3d& x) {
+  v.x(x.x());
+  v.y(x.y());
+  v.z(x.z());
+}
+
+}  // namespace
+
+nav_msgs::msg::dds_::Odometry_ toOdometryMsg(const estimator::EstimatorOutput& e, const Eigen::Vector3d& omega_B,
+                                             const std::string& world_frame, const std::string& body_frame) {
+  nav_msgs::msg::dds_::Odometry_ msg;
+  msg.header(makeHeader(e.t, world_frame));
+  msg.child_frame_id(body_frame);
+  const Eigen::Quaterniond q = e.q_WB.normalized();
+  setPose(msg.pose().pose(), e.p_WB, q);
+  auto& cov = msg.pose().covariance();
+  if (e.covariance_valid) {
+    // dtheta_W = R dtheta_B: J = diag(I, R), Sigma_ros = J Sigma J^T.
+    Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Identity();
+    J.bottomRightCorner<3, 3>() = q.toRotationMatrix();
+    const Eigen::Matrix<double, 6, 6> world = J * e.pose_covariance * J.transpose();
+    for (int r = 0; r < 6; ++r)
+      for (int c = 0; c < 6; ++c) cov[static_cast<std::size_t>(r * 6 + c)] = 0.5 * (world(r, c) + world(c, r));
+  } else {
+    cov[0] = -1.0;
+  }
+  setVector(msg.twist().twist().linear(), q.conjugate() * e.v_WB);
+  setVector(msg.twist().twist().angular(), omega_B);
+  msg.twist().covariance()[0] = -1.0;  // no velocity covariance is estimated
+  return msg;
+}
+
+nav_msgs::msg::dds_::Odometry_ toSecondaryOdometryMsg(const estimator::EstimatorOutput& e, const std::string& world_frame,
+                                                      const std::string& secondary_frame) {
+  nav_msgs::msg::dds_::Odometry_ msg;
+  msg.header(makeHeader(e.t, world_frame));
+  msg.child_frame_id(secondary_frame);
+  const Eigen::Quaterniond q = e.conflict.q_WS.normalized();
+  setPose(msg.pose().pose(), e.conflict.p_WS, q);
+  setVector(msg.twist().twist().linear(), q.conjugate() * e.conflict.v_WS);
+  msg.pose().covariance()[0] = -1.0;
+  msg.twist().covariance()[0] = -1.0;
+  return msg;
+}
+
+nav_msgs::msg::dds_::Path_ toPathMsg(const std::vector<StampedPose>& poses, const std::string& frame_id) {
+  nav_msgs::msg::dds_::Path_ msg;
+  msg.header(makeHeader(poses.empty() ? 0 : poses.back().t, frame_id));
+  msg.poses().reserve(poses.size());
+  for (const auto& p : poses) {
+    geometry_msgs::msg::dds_::PoseStamped_ ps;
+    ps.header(makeHeader(p.t, frame_id));
+    setPose(ps.pose(), p.p, p.q.normalized());
+    msg.poses().push_back(std::move(ps));
+  }
+  return msg;
+}
+
+geometry_msgs::msg::dds_::TransformStamped_ toTransformStamped(const Eigen::Isometry3d& T, Timestamp t,
+                                                               const std::string& parent, const std::string& child) {
+  geometry_msgs::msg::dds_::TransformStamped_ msg;
+  msg.header(makeHeader(t, parent));
+  msg.child_frame_id(child);
+  setVector(msg.transform().translation(), T.translation());
+  const Eigen::Quaterniond q(T.linear());
+  msg.transform().rotation().x(q.x());
+  msg.transform().rotation().y(q.y());
+  msg.transform().rotation().z(q.z());
+  msg.transform().rotation().w(q.w());
+  return msg;
+}
+
+tf2_msgs::msg::dds_::TFMessage_ toTfMessage(const std::vector<geometry_msgs::msg::dds_::TransformStamped_>& transforms) {
+  tf2_msgs::msg::dds_::TFMessage_ msg;
+  msg.transforms(transforms);
+  return msg;
+}
+
+sensor_msgs::msg::dds_::PointCloud2_ toPointCloud2Msg(const std::vector<Eigen::Vector3d>& points, Timestamp t,
+                                                      const std::string& frame_id) {
+  sensor_msgs::msg::dds_::PointCloud2_ msg;
+  msg.header(makeHeader(t, frame_id));
+  const char* names[3] = {"x", "y", "z"};
+  for (std::uint32_t i = 0; i < 3; ++i) {
+    sensor_msgs::msg::dds_::PointField_ f;
+    f.name(names[i]);
+    f.offset(4 * i);
+    f.datatype(7);  // FLOAT32
+    f.count(1);
+    msg.fields().push_back(f);
+  }
+  constexpr std::uint32_t kPointStep = 12;
+  std::vector<std::uint8_t> data;
+  data.reserve(points.size() * kPointStep);
+  for (const auto& p : points) {
+    if (!p.allFinite()) continue;
+    for (int k = 0; k < 3; ++k) {
+      const float v = static_cast<float>(p[k]);
+      std::uint32_t bits;
+      std::memcpy(&bits, &v, 4);
+      // Little endian on the wire whatever the host.
+      for (int b = 0; b < 4; ++b) data.push_back(static_cast<std::uint8_t>(bits >> (8 * b)));
+    }
+  }
+  const auto n = static_cast<std::uint32_t>(data.size() / kPointStep);
+  msg.height(1);
+  msg.width(n);
+  msg.is_bigendian(false);
+  msg.point_step(kPointStep);
+  msg.row_step(kPointStep * n);
+  msg.is_dense(true);
+  msg.data(std::move(data));
+  return msg;
+}
+
+mcvio_msgs::msg::dds_::MotionConflict_ toMotionConflictMsg(const estimator::EstimatorOutput& e,
+                                                           const std::string& world_frame) {
+  mcvio_msgs::msg::dds_::MotionConflict_ msg;
+  const auto& c = e.conflict;
+  msg.header(makeHeader(e.t, world_frame));
+  msg.state(static_cast<std::uint8_t>(c.state));
+  msg.propagated_chi2(c.propagated_chi2);
+  msg.propagated_threshold(c.propagated_threshold);
+  msg.landmarks_tested(static_cast<std::uint32_t>(std::max(0, c.landmarks_tested)));
+  msg.landmarks_inconsistent(static_cast<std::uint32_t>(std::max(0, c.landmarks_inconsistent)));
+  msg.inconsistent_fraction(c.inconsistent_fraction);
+  msg.coherence(c.coherence);
+  msg.interval_start(makeHeader(c.interval_start, "").stamp());
+  msg.resolution_mode(c.resolution_mode);
+  return msg;
 }
 
 }  // namespace mcvio::components

@@ -28,6 +28,7 @@ void addInjectCommand(CLI::App& app, CommandContext& ctx);
 void addRecordCommand(CLI::App& app, CommandContext& ctx);
 void addBagCommand(CLI::App& app, CommandContext& ctx);
 void addFrontendCommand(CLI::App& app, CommandContext& ctx);
+void addBackendCommand(CLI::App& app, CommandContext& ctx);
 void addRunCommand(CLI::App& app, CommandContext& ctx);
 
 /// Thrown by a command to end with `code` after printing `what()` (if not empty) to stderr.
