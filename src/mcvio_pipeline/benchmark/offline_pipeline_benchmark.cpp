@@ -4,7 +4,7 @@
 // Each render and each run happens in a child process, so the peak memory (getrusage) is the
 // run's own. Prints one Markdown table.
 //
-//   mcvio_pipeline_benchmark [--data DIR] [--seconds S] [--sequential] [--only NAME]
+//   mcvio_pipeline_benchmark [--data DIR] [--seconds S] [--sequential] [--only NAME] [--config FILE]
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -82,12 +82,13 @@ void ensureRendered(const Sequence& s) {
 }
 
 // The run and its evaluation, in a child; results in OUT/benchmark.json.
-void runOne(const Sequence& s, const std::string& out, bool pipelined) {
+void runOne(const Sequence& s, const std::string& out, bool pipelined, const std::string& config) {
   pipeline::OfflineRunOptions o;
   o.dataset_dir = s.dataset_dir;
   o.output_dir = out;
   o.progress = isatty(2);
   o.pipelined = pipelined;
+  o.config_file = config;
   pipeline::sequences::CovarianceLog covariances;
   o.on_frame = [&](std::size_t, const pipeline::VioFrameResult& r) { covariances.add(r); };
   const auto sum = pipeline::runOffline(o);
@@ -115,7 +116,7 @@ void runOne(const Sequence& s, const std::string& out, bool pipelined) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string data = "/tmp/mcvio_pipeline_benchmark", only;
+  std::string data = "/tmp/mcvio_pipeline_benchmark", only, config;
   double seconds = 60.0;
   bool pipelined = true;
   for (int i = 1; i < argc; ++i) {
@@ -123,9 +124,10 @@ int main(int argc, char** argv) {
     if (a == "--data" && i + 1 < argc) data = argv[++i];
     else if (a == "--seconds" && i + 1 < argc) seconds = std::stod(argv[++i]);
     else if (a == "--only" && i + 1 < argc) only = argv[++i];
+    else if (a == "--config" && i + 1 < argc) config = argv[++i];
     else if (a == "--sequential") pipelined = false;
     else {
-      std::cerr << "usage: " << argv[0] << " [--data DIR] [--seconds S] [--sequential] [--only NAME]\n";
+      std::cerr << "usage: " << argv[0] << " [--data DIR] [--seconds S] [--sequential] [--only NAME] [--config FILE]\n";
       return 2;
     }
   }
@@ -170,9 +172,10 @@ int main(int argc, char** argv) {
   for (const auto& s : sequences) {
     if (!only.empty() && s.name != only) continue;
     ensureRendered(s);
-    const std::string out = data + "/run_" + s.name + (pipelined ? "" : "_sequential");
+    const std::string out = data + "/run_" + s.name + (pipelined ? "" : "_sequential") +
+                            (config.empty() ? "" : "_" + fs::path(config).stem().string());
     std::cerr << s.name << ": running (" << (pipelined ? "pipelined" : "sequential") << "), load " << loadAverage() << "\n";
-    if (!inChild([&] { runOne(s, out, pipelined); })) {
+    if (!inChild([&] { runOne(s, out, pipelined, config); })) {
       std::cerr << s.name << ": run failed\n";
       continue;
     }
@@ -180,7 +183,8 @@ int main(int argc, char** argv) {
     rows.emplace_back(s.name, nlohmann::json::parse(in));
   }
 
-  std::cout << "\n" << (pipelined ? "pipelined" : "sequential") << " runOffline; load average before " << load_before
+  std::cout << "\n" << (pipelined ? "pipelined" : "sequential") << " runOffline"
+            << (config.empty() ? std::string() : ", config " + config) << "; load average before " << load_before
             << ", after " << loadAverage() << " (2 cores)\n\n";
   std::cout << "| sequence | frames | poses | resets | ATE pos+yaw [m] | ATE SE3 [m] | RPE 1 s [m / deg] | NEES pos "
                "| backend median [ms CPU] | frontend median [ms CPU] | decode median [ms CPU] | wall [s] | CPU [s] "

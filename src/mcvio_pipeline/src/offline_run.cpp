@@ -233,11 +233,13 @@ class RunRecorder {
   std::size_t frames_total_;
 };
 
-/// The IMU samples after frame i-1 up to frame i (all up to the first frame for i = 0): what a
-/// bus delivers before the image.
-std::vector<ImuSample> imuUpTo(const std::vector<ImuSample>& imu, Timestamp t, std::size_t* next) {
+/// The IMU samples after those of the previous frame, up to and including the first one at or
+/// after the frame time t: the estimator interpolates the frame-time endpoint, so it needs the
+/// IMU to reach t, as a live backend waits for it. (Real IMU stamps jitter around the camera's:
+/// EuRoC V1_01 has samples 64-128 ns after a frame; stopping before t would skip those frames.)
+std::vector<ImuSample> imuThrough(const std::vector<ImuSample>& imu, Timestamp t, std::size_t* next) {
   std::vector<ImuSample> out;
-  while (*next < imu.size() && imu[*next].t <= t) out.push_back(imu[(*next)++]);
+  while (*next < imu.size() && (*next == 0 || imu[*next - 1].t < t)) out.push_back(imu[(*next)++]);
   return out;
 }
 
@@ -245,7 +247,7 @@ void runSequential(const OfflineInput& data, VioPipeline& vio, RunRecorder& rec)
   std::size_t next_imu = 0;
   for (std::size_t i = 0; i < data.frame_times.size(); ++i) {
     const Timestamp t = data.frame_times[i];
-    for (const auto& s : imuUpTo(data.imu, t, &next_imu)) vio.addImu(s);
+    for (const auto& s : imuThrough(data.imu, t, &next_imu)) vio.addImu(s);
     const double c0 = threadCpuMs();
     const auto images = data.images(i);
     const double load_ms = threadCpuMs() - c0;
@@ -300,7 +302,7 @@ void runPipelined(const OfflineInput& data, VioPipeline& vio, RunRecorder& rec) 
     std::size_t next_imu = 0;
     while (auto f = loaded.pop()) {
       const Timestamp t = data.frame_times[f->index];
-      auto frame = vio.trackFrame(t, f->images.first, f->images.second, imuUpTo(data.imu, t, &next_imu));
+      auto frame = vio.trackFrame(t, f->images.first, f->images.second, imuThrough(data.imu, t, &next_imu));
       f->images = {};
       if (!tracked.push({std::move(frame), f->cpu_ms})) break;
     }
