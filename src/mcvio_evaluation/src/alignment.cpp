@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 
 namespace mcvio::evaluation {
@@ -87,6 +88,54 @@ Eigen::Isometry3d align(Alignment alignment, const std::vector<Eigen::Vector3d>&
   }
   checkSizes(estimate, ground_truth);
   return Eigen::Isometry3d::Identity();
+}
+
+AlignmentResult alignPoses(Alignment alignment, const std::vector<StampedPose>& estimate,
+                           const std::vector<StampedPose>& ground_truth, const AlignmentOptions& options) {
+  std::vector<Eigen::Vector3d> est_p, gt_p;
+  est_p.reserve(estimate.size());
+  gt_p.reserve(ground_truth.size());
+  for (const auto& p : estimate) est_p.push_back(p.p);
+  for (const auto& p : ground_truth) gt_p.push_back(p.p);
+  checkSizes(est_p, gt_p);
+  AlignmentResult r;
+  if (alignment == Alignment::kNone) return r;
+
+  const Eigen::Vector3d mu_e = mean(est_p), mu_g = mean(gt_p);
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : est_p) cov += (p - mu_e) * (p - mu_e).transpose();
+  cov /= static_cast<double>(est_p.size());
+  double spread = 0;
+  if (alignment == Alignment::kSe3) {
+    const Eigen::Vector3d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvalues();  // ascending
+    spread = std::sqrt(std::max(0.0, ev(1)));
+  } else {
+    const Eigen::Vector2d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov.topLeftCorner<2, 2>()).eigenvalues();
+    spread = std::sqrt(std::max(0.0, ev(1)));
+  }
+  if (spread >= options.min_position_spread_m) {
+    r.T_gt_est = align(alignment, est_p, gt_p);
+    return r;
+  }
+  r.rotation_from_orientations = true;
+  Eigen::Matrix3d M = Eigen::Matrix3d::Zero();  // sum of R_gt R_est^T
+  for (std::size_t i = 0; i < estimate.size(); ++i) {
+    M += ground_truth[i].q.toRotationMatrix() * estimate[i].q.toRotationMatrix().transpose();
+  }
+  Eigen::Matrix3d R;
+  if (alignment == Alignment::kSe3) {
+    Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::Matrix3d S = Eigen::Matrix3d::Identity();
+    if (svd.matrixU().determinant() * svd.matrixV().determinant() < 0) S(2, 2) = -1;
+    R = svd.matrixU() * S * svd.matrixV().transpose();
+  } else {
+    // argmax over yaw of trace(Rz(yaw)^T M).
+    const double yaw = std::atan2(M(1, 0) - M(0, 1), M(0, 0) + M(1, 1));
+    R = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  }
+  r.T_gt_est.linear() = R;
+  r.T_gt_est.translation() = mu_g - R * mu_e;
+  return r;
 }
 
 }  // namespace mcvio::evaluation

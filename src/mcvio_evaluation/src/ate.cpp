@@ -45,17 +45,12 @@ AteResult computeAte(const Trajectory& estimate, const Trajectory& ground_truth,
         << " s";
     throw InputError(msg.str());
   }
-  std::vector<Eigen::Vector3d> est_p, gt_p;
-  est_p.reserve(pairs.size());
-  gt_p.reserve(pairs.size());
-  for (std::size_t i = 0; i < pairs.size(); ++i) {
-    est_p.push_back(pairs.estimate[i].p);
-    gt_p.push_back(pairs.ground_truth[i].p);
-  }
   AteResult r;
   r.alignment = alignment;
   r.unmatched = pairs.unmatched;
-  r.T_gt_est = align(alignment, est_p, gt_p);
+  const AlignmentResult fit = alignPoses(alignment, pairs.estimate, pairs.ground_truth, options.alignment);
+  r.T_gt_est = fit.T_gt_est;
+  r.rotation_from_orientations = fit.rotation_from_orientations;
   const Eigen::Quaterniond q_align(r.T_gt_est.linear());
   r.ground_truth = pairs.ground_truth;
   r.aligned_estimate.reserve(pairs.size());

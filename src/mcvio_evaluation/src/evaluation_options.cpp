@@ -44,7 +44,7 @@ EvaluationOptions EvaluationOptions::fromYamlFile(const std::string& path) {
   if (!root || root.IsNull()) return o;
   if (!root.IsMap()) throw InputError(path + ": expected a map of evaluation options");
   const std::string where = path + ": ";
-  rejectUnknown(root, {"association", "rpe_delta_s", "rpe_delta_m", "rpe_tolerance", "detection", "baseline"}, where);
+  rejectUnknown(root, {"association", "alignment", "rpe_delta_s", "rpe_delta_m", "rpe_tolerance", "detection", "baseline"}, where);
   read(root, "rpe_delta_s", where, o.rpe_delta_s);
   read(root, "rpe_delta_m", where, o.rpe_delta_m);
   read(root, "rpe_tolerance", where, o.rpe_tolerance);
@@ -65,6 +65,12 @@ EvaluationOptions EvaluationOptions::fromYamlFile(const std::string& path) {
     read(a, "max_interpolation_gap_s", w, o.association.max_interpolation_gap_s);
     read(a, "max_time_difference_s", w, o.association.max_time_difference_s);
   }
+  if (const auto a = root["alignment"]) {
+    if (!a.IsMap()) throw InputError(where + "alignment: expected a map");
+    const std::string w = where + "alignment.";
+    rejectUnknown(a, {"min_position_spread_m"}, w);
+    read(a, "min_position_spread_m", w, o.alignment.min_position_spread_m);
+  }
   if (const auto d = root["detection"]) {
     if (!d.IsMap()) throw InputError(where + "detection: expected a map");
     const std::string w = where + "detection.";
@@ -83,6 +89,9 @@ EvaluationOptions EvaluationOptions::fromYamlFile(const std::string& path) {
 void EvaluationOptions::validate() const {
   association.validate();
   detection.validate();
+  if (!(alignment.min_position_spread_m >= 0) || !std::isfinite(alignment.min_position_spread_m)) {
+    throw std::invalid_argument("alignment.min_position_spread_m must be >= 0");
+  }
   if (!(rpe_delta_s > 0) || !std::isfinite(rpe_delta_s)) throw std::invalid_argument("rpe_delta_s must be > 0");
   if (!(rpe_delta_m > 0) || !std::isfinite(rpe_delta_m)) throw std::invalid_argument("rpe_delta_m must be > 0");
   if (!(rpe_tolerance >= 0) || !std::isfinite(rpe_tolerance)) throw std::invalid_argument("rpe_tolerance must be >= 0");

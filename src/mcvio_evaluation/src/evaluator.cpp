@@ -45,6 +45,7 @@ EvaluationReport Evaluator::evaluate(const Trajectory& ground_truth, const std::
 
   AteOptions ate_options;
   ate_options.association = options_.association;
+  ate_options.alignment = options_.alignment;
   RpeOptions rpe_time = RpeOptions::time(options_.rpe_delta_s);
   RpeOptions rpe_distance = RpeOptions::distance(options_.rpe_delta_m);
   for (RpeOptions* o : {&rpe_time, &rpe_distance}) {

@@ -41,6 +41,7 @@ json asJson(const Eigen::Isometry3d& T) {
 
 json asJson(const AteResult& a) {
   return {{"alignment", toString(a.alignment)},
+          {"rotation_from", a.rotation_from_orientations ? "orientations" : "positions"},
           {"matched", a.translation_errors.size()},
           {"unmatched", a.unmatched},
           {"translation_m", asJson(a.translation)},
@@ -204,6 +205,7 @@ std::string ReportWriter::toJson(const EvaluationReport& report) {
        {{"method", o.association.method == AssociationOptions::Method::kNearest ? "nearest" : "interpolate"},
         {"max_interpolation_gap_s", o.association.max_interpolation_gap_s},
         {"max_time_difference_s", o.association.max_time_difference_s}}},
+      {"alignment", {{"min_position_spread_m", o.alignment.min_position_spread_m}}},
       {"rpe_delta_s", o.rpe_delta_s},
       {"rpe_delta_m", o.rpe_delta_m},
       {"rpe_tolerance", o.rpe_tolerance},
@@ -282,6 +284,18 @@ std::string ReportWriter::toMarkdown(const EvaluationReport& report) {
       md << " " << (row.is_error ? percent(relativeReduction(row.value(*base), row.value(*e))) : "") << " |";
     }
     md << "\n";
+  }
+  std::string from_orientations;
+  for (const auto& e : report.estimates) {
+    for (const AteResult* a : {&e.ate_se3, &e.ate_posyaw}) {
+      if (a->rotation_from_orientations) {
+        from_orientations += (from_orientations.empty() ? "" : ", ") + e.name + " (" + toString(a->alignment) + ")";
+      }
+    }
+  }
+  if (!from_orientations.empty()) {
+    md << "\nPositions spread less than " << fixed(report.options.alignment.min_position_spread_m, 2)
+       << " m, so the alignment rotation came from the orientations: " << from_orientations << ".\n";
   }
   if (!compared.empty()) {
     md << "\nReduction: 100 * (baseline - run) / baseline; positive = less error than " << base->name << ".\n";

@@ -5,6 +5,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "mcvio/evaluation/stamped_pose.hpp"
+
 namespace mcvio::evaluation {
 
 /// How an estimate is brought into the ground truth's world frame before absolute errors.
@@ -33,5 +35,28 @@ Eigen::Isometry3d alignPositionYaw(const std::vector<Eigen::Vector3d>& estimate,
 /// Dispatches on `alignment` (kNone gives the identity).
 Eigen::Isometry3d align(Alignment alignment, const std::vector<Eigen::Vector3d>& estimate,
                         const std::vector<Eigen::Vector3d>& ground_truth);
+
+struct AlignmentOptions {
+  /// Positions fix the rotation only if they spread out: a device at rest (or moving along one
+  /// line, for SE(3)) leaves it arbitrary. Below this spread [m] the rotation is taken from the
+  /// orientations instead. The spread is the RMS distance from the mean along the second
+  /// principal axis (SE(3)) or the first horizontal one (position+yaw); 0.1 m keeps the
+  /// position-based rotation error of centimetre-accurate runs under a few degrees.
+  double min_position_spread_m = 0.1;
+};
+
+struct AlignmentResult {
+  Eigen::Isometry3d T_gt_est = Eigen::Isometry3d::Identity();
+  /// True if the positions did not spread enough and the rotation is the chordal mean of
+  /// R_gt_i R_est_i^T (SE(3)) or its best yaw (position+yaw); the translation still matches the
+  /// position means.
+  bool rotation_from_orientations = false;
+};
+
+/// Alignment of poses paired by index: the position-based closed forms above, or the
+/// orientation-based rotation when the positions are degenerate (see AlignmentOptions).
+AlignmentResult alignPoses(Alignment alignment, const std::vector<StampedPose>& estimate,
+                           const std::vector<StampedPose>& ground_truth,
+                           const AlignmentOptions& options = {});
 
 }  // namespace mcvio::evaluation

@@ -12,6 +12,7 @@ namespace mcvio::evaluation {
 
 struct AteOptions {
   AssociationOptions association;
+  AlignmentOptions alignment;
 };
 
 /// Absolute trajectory error of an estimate after one alignment to ground truth.
@@ -19,6 +20,8 @@ struct AteResult {
   Alignment alignment = Alignment::kSe3;
   /// World change applied to the estimate: aligned = T_gt_est * estimate.
   Eigen::Isometry3d T_gt_est = Eigen::Isometry3d::Identity();
+  /// The positions barely moved, so the alignment's rotation came from the orientations.
+  bool rotation_from_orientations = false;
   std::size_t unmatched = 0;  ///< estimate poses without ground truth (not in the errors)
   ErrorStatistics translation;  ///< |p_gt - p_aligned| [m]
   ErrorStatistics rotation;     ///< angle of q_gt^-1 * q_aligned [deg]
@@ -36,7 +39,8 @@ struct AteResult {
 };
 
 /// Associates `estimate` with `ground_truth`, aligns it (`alignment`, fitted on every associated
-/// position) and measures the errors. Throws mcvio::InputError naming both sources if no
+/// position; on the orientations for the rotation if the positions barely spread, see
+/// AlignmentOptions) and measures the errors. Throws mcvio::InputError naming both sources if no
 /// estimate pose has ground truth.
 AteResult computeAte(const Trajectory& estimate, const Trajectory& ground_truth,
                      Alignment alignment, const AteOptions& options = {});

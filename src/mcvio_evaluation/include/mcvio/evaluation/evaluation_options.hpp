@@ -1,6 +1,7 @@
 #pragma once
 #include <string>
 
+#include "mcvio/evaluation/alignment.hpp"
 #include "mcvio/evaluation/association.hpp"
 #include "mcvio/evaluation/detection_metrics.hpp"
 
@@ -9,6 +10,7 @@ namespace mcvio::evaluation {
 /// Everything an evaluation measures, with the defaults `mcvio eval` uses.
 struct EvaluationOptions {
   AssociationOptions association;
+  AlignmentOptions alignment;
   /// RPE over this time [s]: 1 s spans 20 frames of a 20 Hz camera, short-term drift.
   double rpe_delta_s = 1.0;
   /// RPE over this ground-truth path length [m]: EuRoC rooms and the simulator's scenes are a
@@ -23,6 +25,7 @@ struct EvaluationOptions {
   /// Keys as the field names, optionally under `association:` / `detection:` maps, e.g.
   ///   rpe_delta_s: 2.0
   ///   association: {method: nearest, max_time_difference_s: 0.01}
+  ///   alignment: {min_position_spread_m: 0.2}
   ///   detection: {suspected_is_positive: true}
   /// Throws mcvio::InputError naming the file and key for unknown keys, wrong types or values.
   static EvaluationOptions fromYamlFile(const std::string& path);
