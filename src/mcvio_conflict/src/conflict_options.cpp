@@ -59,8 +59,13 @@ void ConflictOptions::validate() const {
   require(coherence_sigma_m > 0, "coherence_sigma_m", "must be > 0", coherence_sigma_m);
   require(whole_view_fraction > 0 && whole_view_fraction <= 1, "whole_view_fraction", "must be in (0, 1]",
           whole_view_fraction);
+  require(warmup_frames >= 0, "warmup_frames", "must be >= 0", warmup_frames);
+  require(bias_reference_lag_frames >= 0 && bias_reference_lag_frames <= 400, "bias_reference_lag_frames",
+          "must be in [0, 400]", bias_reference_lag_frames);
   require(enter_frames >= 1, "enter_frames", "must be >= 1", enter_frames);
   require(exit_frames >= 1, "exit_frames", "must be >= 1", exit_frames);
+  require(rotation_chi2_threshold > 0, "rotation_chi2_threshold", "must be > 0", rotation_chi2_threshold);
+  require(rewind_frames >= 0 && rewind_frames <= 400, "rewind_frames", "must be in [0, 400]", rewind_frames);
   require(selective_strikes >= 1, "selective_strikes", "must be >= 1", selective_strikes);
   require(auto_min_static_landmarks >= 0, "auto_min_static_landmarks", "must be >= 0", auto_min_static_landmarks);
 }
@@ -98,12 +103,17 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("min_coherence", &o.min_coherence);
   read("coherence_sigma_m", &o.coherence_sigma_m);
   read("whole_view_fraction", &o.whole_view_fraction);
+  read("warmup_frames", &o.warmup_frames);
+  read("bias_reference_lag_frames", &o.bias_reference_lag_frames);
   read("enter_frames", &o.enter_frames);
   read("exit_frames", &o.exit_frames);
   read("selective_strikes", &o.selective_strikes);
   read("use_frontend_labels", &o.use_frontend_labels);
   read("auto_min_static_landmarks", &o.auto_min_static_landmarks);
   read("rewind_on_entry", &o.rewind_on_entry);
+  read("rewind_frames", &o.rewind_frames);
+  read("keep_consistent_rotation", &o.keep_consistent_rotation);
+  read("rotation_chi2_threshold", &o.rotation_chi2_threshold);
   for (const auto& kv : node) {
     const std::string key = kv.first.as<std::string>();
     if (known.count(key) == 0) throw InputError(context + ": unknown conflict option '" + key + "'");

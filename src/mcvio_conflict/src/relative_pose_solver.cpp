@@ -1,5 +1,6 @@
 #include "mcvio/conflict/relative_pose_solver.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "mcvio/conflict/so3_math.hpp"
@@ -67,7 +68,10 @@ RelativePoseSolver::Result RelativePoseSolver::solve(const std::vector<TrackedPo
   }
   if (inliers < options_.min_points) return res;
   if (!pass(false, 3)) return res;
-  const double s2 = options_.observation_sigma_px * options_.observation_sigma_px;
+  // A posteriori variance: stereo depth errors of the points at r add to the pixel noise, and
+  // the fit's own scatter measures both.
+  const double dof = std::max(1, inliers - 6);
+  const double s2 = std::max(options_.observation_sigma_px * options_.observation_sigma_px, sum2 / dof);
   res.motion.R = R;
   res.motion.t = t;
   res.motion.covariance = s2 * H.inverse();

@@ -1,5 +1,8 @@
 #include "mcvio/estimator/motion_conflict_monitor.hpp"
 
+#include <cstdio>
+#include <cstdlib>
+
 #include <Eigen/Dense>
 
 #include "mcvio/estimator/imu_preintegrator.hpp"
@@ -46,6 +49,8 @@ void MotionConflictMonitor::reset() {
   history_.clear();
   have_pending_ = false;
   imu_dominated_ = false;
+  have_reference_bias_ = false;
+  frames_since_reset_ = 0;
   tracker_.reset();
   classifier_.clear();
   secondary_.end();
@@ -102,7 +107,8 @@ bool MotionConflictMonitor::imuMotion(const Entry& r, Timestamp t, const ImuBuff
                                       conflict::RelativeMotion* motion, State* propagated) const {
   std::vector<ImuSample> samples;
   if (!imu.extract(r.t, t, &samples) || samples.size() < 2) return false;
-  ImuPreintegrator pre(r.state.bias, imu_noise_);
+  const ImuBias bias = referenceBias(r);
+  ImuPreintegrator pre(bias, imu_noise_);
   for (const auto& s : samples) pre.integrate(s);
   const double dt = pre.deltaTime();
   const Eigen::Matrix3d R_r = r.state.q.toRotationMatrix();
@@ -126,9 +132,23 @@ bool MotionConflictMonitor::imuMotion(const Entry& r, Timestamp t, const ImuBuff
   S.block<3, 3>(0, 3) += sbg2 * pre.dR_dbg() * pre.dP_dbg().transpose();
   S.block<3, 3>(3, 0) += sbg2 * pre.dP_dbg() * pre.dR_dbg().transpose();
   motion->covariance = S;
-  pre.predict(r.state.p, r.state.q, r.state.v, r.state.bias, gravity_, &propagated->p, &propagated->q, &propagated->v);
-  propagated->bias = r.state.bias;
+  pre.predict(r.state.p, r.state.q, r.state.v, bias, gravity_, &propagated->p, &propagated->q, &propagated->v);
+  propagated->bias = bias;
   return motion->t.allFinite() && motion->R.allFinite();
+}
+
+bool MotionConflictMonitor::visionVelocity(std::size_t i, std::size_t span, Eigen::Vector3d* v) const {
+  if (i < span || i >= history_.size()) return false;
+  const Entry& a = history_[i - span];
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  for (std::size_t j = i - span + 1; j <= i; ++j) {
+    if (!history_[j].vision_increment_valid) return false;
+    T = T * history_[j].vision_increment;
+  }
+  const double dt = toSeconds(history_[i].t - a.t);
+  if (!(dt > 0)) return false;
+  *v = a.state.q * T.translation() / dt;
+  return true;
 }
 
 MotionConflictMonitor::Decision MotionConflictMonitor::process(
@@ -156,16 +176,35 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
         pending_.vision_increment.linear() = sol.motion.R;
         pending_.vision_increment.translation() = sol.motion.t;
         pending_.vision_increment_valid = true;
+        pending_.vision_rotation_covariance = sol.motion.covariance.block<3, 3>(0, 0);
       }
     }
   }
 
   const int H = options_.horizon_frames;
-  bool evidence = false, whole = false;
+  bool evidence = false, whole = false, rotation_agrees = false;
   int static_count = 0;
   const bool selective_active = mode == conflict::ResolutionMode::kSelective || mode == conflict::ResolutionMode::kAuto;
   if (static_cast<int>(history_.size()) >= H) {
-    const Entry& r = history_[history_.size() - static_cast<std::size_t>(H)];
+    const std::size_t r_index = history_.size() - static_cast<std::size_t>(H);
+    Entry r = history_[r_index];
+    // Inside an IMU-dominated interval the inertial velocity has drifted from what vision sees;
+    // whether the conflict goes on is a question of acceleration, so take r's velocity from vision.
+    if (imu_dominated_) {
+      // The chained vision displacement gives the mean velocity over [r - H, r], i.e. at the
+      // middle; the IMU carries it to r.
+      Eigen::Vector3d v_vis;
+      const std::size_t span = static_cast<std::size_t>(H);
+      if (visionVelocity(r_index, span, &v_vis)) {
+        const Entry& mid = history_[r_index - span / 2];
+        std::vector<ImuSample> samples;
+        if (imu.extract(mid.t, r.t, &samples) && samples.size() >= 2) {
+          ImuPreintegrator pre(referenceBias(mid), imu_noise_);
+          for (const auto& smp : samples) pre.integrate(smp);
+          r.state.v = v_vis + mid.state.q * pre.deltaV() + gravity_ * pre.deltaTime();
+        }
+      }
+    }
     conflict::RelativeMotion imu_rel;
     State propagated;
     if (imuMotion(r, t, imu, &imu_rel, &propagated)) {
@@ -177,6 +216,18 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
       if (vis.valid) {
         const auto prop = propagated_detector_.test(imu_rel, vis.motion);
         d.report.propagated_chi2 = prop.chi2;
+        const Eigen::Matrix3d S_rot = imu_rel.covariance.block<3, 3>(0, 0) + vis.motion.covariance.block<3, 3>(0, 0);
+        const Eigen::Vector3d e_rot = prop.error.head<3>();
+        rotation_agrees = e_rot.dot(S_rot.ldlt().solve(e_rot)) < options_.rotation_chi2_threshold;
+        if (std::getenv("MCVIO_CONFLICT_DEBUG") && prop.chi2 > 10)
+          std::fprintf(stderr, "dbg t=%.2f chi2=%.1f err=[%.4f %.4f %.4f | %.4f %.4f %.4f] sd_imu=[%.4f %.4f %.4f | %.4f %.4f %.4f] sd_vis=[%.4f %.4f %.4f | %.4f %.4f %.4f] n=%d rms=%.2f\n",
+                       toSeconds(t), prop.chi2, prop.error[0], prop.error[1], prop.error[2], prop.error[3], prop.error[4],
+                       prop.error[5], std::sqrt(imu_rel.covariance(0, 0)), std::sqrt(imu_rel.covariance(1, 1)),
+                       std::sqrt(imu_rel.covariance(2, 2)), std::sqrt(imu_rel.covariance(3, 3)),
+                       std::sqrt(imu_rel.covariance(4, 4)), std::sqrt(imu_rel.covariance(5, 5)),
+                       std::sqrt(vis.motion.covariance(0, 0)), std::sqrt(vis.motion.covariance(1, 1)),
+                       std::sqrt(vis.motion.covariance(2, 2)), std::sqrt(vis.motion.covariance(3, 3)),
+                       std::sqrt(vis.motion.covariance(4, 4)), std::sqrt(vis.motion.covariance(5, 5)), vis.inliers, vis.rms_px);
         whole = prop.fired;
       }
       const auto lm = landmark_detector_.test(pts, imu_rel);
@@ -188,7 +239,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
       const bool partial = lm.tested >= options_.min_landmarks_tested && lm.inconsistent >= options_.partial_min_count &&
                            lm.fraction >= options_.partial_min_fraction && lm.coherence >= options_.min_coherence;
       if (lm.tested >= options_.min_landmarks_tested && lm.fraction >= options_.whole_view_fraction) whole = true;
-      evidence = whole || partial;
+      evidence = (whole || partial) && frames_since_reset_ >= options_.warmup_frames;
       // Inside an IMU-dominated interval every landmark disagrees with the inertial motion;
       // that says nothing about which of them move once the interval is over.
       if (selective_active && !imu_dominated_)
@@ -211,6 +262,9 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     imu_dominated_ = false;
     secondary_.end();
     classifier_.clear();
+    // The frames of the interval carry the drifted inertial velocity: let vision correct it
+    // before they serve as reference frames again.
+    frames_since_reset_ = std::min(frames_since_reset_, options_.warmup_frames - H - options_.enter_frames);
   }
   if (tracker_.inConflict() && !imu_dominated_) {
     const bool want_imu =
@@ -225,13 +279,13 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
           first = i;
           break;
         }
-      const std::size_t back = static_cast<std::size_t>(H);
+      const std::size_t back = static_cast<std::size_t>(std::max(H, options_.rewind_frames));
       const std::size_t idx = first >= back ? first - back : 0;
       const Entry* start = history_.empty() ? nullptr : &history_[idx];
       if (start == nullptr) {
         held_bias_ = ImuBias{};
       } else {
-        held_bias_ = start->state.bias;
+        held_bias_ = referenceBias(*start);
         State propagated;
         conflict::RelativeMotion ignored;
         if (options_.rewind_on_entry && imuMotion(*start, t, imu, &ignored, &propagated)) {
@@ -246,6 +300,13 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     }
   }
   d.imu_dominated = imu_dominated_;
+  if (imu_dominated_ && options_.keep_consistent_rotation && rotation_agrees && pending_.vision_increment_valid) {
+    d.vision_rotation = true;
+    d.q_prev_cur = Eigen::Quaterniond(pending_.vision_increment.linear());
+    const Eigen::Matrix3d info = pending_.vision_rotation_covariance.inverse();
+    d.rotation_sqrt_information = info.llt().matrixU();
+    if (!d.rotation_sqrt_information.allFinite()) d.vision_rotation = false;
+  }
   d.held_bias = held_bias_;
   d.suppress_zero_velocity = mode != conflict::ResolutionMode::kReference && tracker_.inConflict();
   switch (mode) {
@@ -280,7 +341,17 @@ void MotionConflictMonitor::commit(const State& solved, ConflictReport* report) 
   }
   history_.push_back(std::move(pending_));
   have_pending_ = false;
-  const std::size_t keep = static_cast<std::size_t>(options_.horizon_frames + options_.enter_frames + 40);
+  ++frames_since_reset_;
+  const std::size_t lag = static_cast<std::size_t>(options_.bias_reference_lag_frames);
+  // Only biases estimated after the warm-up count: the first estimates are still settling.
+  if (tracker_.state() != conflict::ConflictIntervalTracker::State::kConflict &&
+      frames_since_reset_ > options_.warmup_frames + static_cast<int>(lag) && history_.size() > lag) {
+    reference_bias_ = history_[history_.size() - 1 - lag].state.bias;
+    have_reference_bias_ = true;
+  }
+  const std::size_t keep =
+      static_cast<std::size_t>(options_.horizon_frames + options_.enter_frames + options_.bias_reference_lag_frames +
+                               options_.rewind_frames + 10);
   while (history_.size() > keep) history_.pop_front();
 }
 

@@ -13,6 +13,7 @@
 #include "mcvio/estimator/anchor_observation_factor.hpp"
 #include "mcvio/estimator/imu_factor.hpp"
 #include "mcvio/estimator/marginalizer.hpp"
+#include "mcvio/estimator/relative_rotation_factor.hpp"
 #include "mcvio/estimator/reprojection_factor.hpp"
 #include "mcvio/estimator/so3.hpp"
 #include "mcvio/estimator/zero_velocity_factor.hpp"
@@ -555,6 +556,13 @@ void SlidingWindowEstimator::solve(EstimatorOutput* out) {
       add(ImuFactor::create(*f.imu, gravity_), nullptr, {p.pose.data(), p.sb.data(), f.pose.data(), f.sb.data()},
           ResidualKind::kImu);
   }
+  for (auto& f : frames_) {
+    if (!f->has_vision_rotation) continue;
+    Frame* prev = frameById(f->rotation_prev_id);
+    if (prev == nullptr) continue;  // already folded into the prior with the previous frame
+    add(RelativeRotationFactor::create(f->vision_rotation, f->vision_rotation_sqrt_info), nullptr,
+        {prev->pose.data(), f->pose.data()}, ResidualKind::kVisionRotation);
+  }
   for (auto& f : frames_)
     if (f->zero_velocity && f->has_speed_bias)
       add(new ZeroVelocityFactor(options_.zero_velocity_sigma), nullptr, {f->sb.data()}, ResidualKind::kZeroVelocity);
@@ -869,6 +877,12 @@ void SlidingWindowEstimator::applyConflictDecision(const MotionConflictMonitor::
   Eigen::Map<Eigen::Vector3d>(cur.sb.data() + 6) = decision.held_bias.accel;
   cur.bias_held = true;
   last_vision_t_ = cur.t;
+  if (decision.vision_rotation && frames_.size() >= 2) {
+    cur.has_vision_rotation = true;
+    cur.rotation_prev_id = frames_[frames_.size() - 2]->id;
+    cur.vision_rotation = decision.q_prev_cur;
+    cur.vision_rotation_sqrt_info = decision.rotation_sqrt_information;
+  }
 }
 
 void SlidingWindowEstimator::restartFrom(Frame& cur, const MotionConflictMonitor::State& state,

@@ -33,12 +33,12 @@ struct ConflictOptions {
   double stereo_sigma_px = 0.5;        ///< disparity noise, for the stereo depth uncertainty
   /// Uncertainty of the estimated velocity and attitude at r and of the biases; they spread the
   /// IMU prediction over the horizon.
-  double velocity_sigma_mps = 0.03;
+  double velocity_sigma_mps = 0.015;
   double attitude_sigma_rad = 0.01;
-  double accel_bias_sigma = 0.05;      ///< [m/s^2]
+  double accel_bias_sigma = 0.02;      ///< [m/s^2]
   double gyro_bias_sigma = 0.002;      ///< [rad/s]
   /// Propagated-state detector: 6-dof chi-square threshold on IMU-vs-vision relative motion.
-  double propagated_chi2_threshold = 40.0;
+  double propagated_chi2_threshold = 20.0;
   /// Landmark detector: 2-dof chi-square threshold on a normalised reprojection residual.
   double landmark_chi2_threshold = 13.8;
   int min_landmarks_tested = 12;       ///< fewer: the landmark detector abstains
@@ -50,6 +50,13 @@ struct ConflictOptions {
   double coherence_sigma_m = 0.02;     ///< 3D tolerance floor of the rigid-motion fit
   /// Above this share of disagreeing landmarks the conflict covers the whole view.
   double whole_view_fraction = 0.6;
+  /// Frames after (re)initialisation before the detectors may report evidence: the first
+  /// velocity and bias estimates are still settling.
+  int warmup_frames = 40;
+  /// The IMU prediction uses the biases estimated this many frames before the newest conflict-free
+  /// frame: inside a conflict the estimator bends the accelerometer bias to explain the missing
+  /// motion, and a prediction with that bias would agree with vision.
+  int bias_reference_lag_frames = 40;
   int enter_frames = 2;                ///< consecutive frames with evidence to open an interval
   int exit_frames = 10;                ///< consecutive clean frames to close it
 
@@ -63,6 +70,14 @@ struct ConflictOptions {
   /// IMU-dominated: at the start of an interval go back to the state before the first evidence
   /// and propagate it with the IMU, so vision seen during the detection delay is undone.
   bool rewind_on_entry = true;
+  /// IMU-dominated: keep vision's frame-to-frame rotation while it agrees with the gyro (a cabin
+  /// or a carried object that translates without turning), so the attitude does not drift and
+  /// gravity does not leak into the position. 3-dof chi-square gate.
+  bool keep_consistent_rotation = true;
+  double rotation_chi2_threshold = 16.3;
+  /// How far before the first frame of evidence the rewind goes: a smooth onset (a cabin starting
+  /// gently) moves vision away from the IMU before the detectors can tell.
+  int rewind_frames = 40;
 
   void validate() const;
   static ConflictOptions fromYaml(const YAML::Node& node, const std::string& context = "conflict options");

@@ -54,6 +54,11 @@ class MotionConflictMonitor {
     Timestamp rewind_t = 0;
     bool suppress_zero_velocity = false;  ///< vision at rest inside a moving frame says nothing
     std::vector<std::uint64_t> eliminate;  ///< tracks declared moving in this frame
+    /// IMU-dominated with a rotation vision and gyro agree on: vision's rotation from the previous
+    /// frame to this one (R_prev^T R_cur) with its square-root information.
+    bool vision_rotation = false;
+    Eigen::Quaterniond q_prev_cur = Eigen::Quaterniond::Identity();
+    Eigen::Matrix3d rotation_sqrt_information = Eigen::Matrix3d::Identity();
   };
 
   MotionConflictMonitor(const conflict::ConflictOptions& options, const conflict::RigGeometry& rig,
@@ -81,13 +86,19 @@ class MotionConflictMonitor {
     bool evidence = false;
     Eigen::Isometry3d vision_increment = Eigen::Isometry3d::Identity();  ///< body k -> body k-1, vision only
     bool vision_increment_valid = false;
+    Eigen::Matrix3d vision_rotation_covariance = Eigen::Matrix3d::Identity();
   };
 
   bool triangulate(const Eigen::Vector2d& n0, const Eigen::Vector2d& n1, double* depth) const;
   std::vector<conflict::TrackedPoint> collectPoints(const Entry& r, const ObservationMap& cam0,
                                                     const ObservationMap& cam1) const;
+  /// IMU-predicted motion from r to t, integrated with the reference bias (see
+  /// ConflictOptions::bias_reference_lag_frames); `propagated` is r's state moved to t.
   bool imuMotion(const Entry& r, Timestamp t, const ImuBuffer& imu, conflict::RelativeMotion* motion,
                  State* propagated) const;
+  /// Vision-only world velocity at history index i (average over the `span` frames before it).
+  bool visionVelocity(std::size_t i, std::size_t span, Eigen::Vector3d* v) const;
+  ImuBias referenceBias(const Entry& r) const { return have_reference_bias_ ? reference_bias_ : r.state.bias; }
 
   conflict::ConflictOptions options_;
   conflict::RigGeometry rig_;
@@ -107,6 +118,9 @@ class MotionConflictMonitor {
   bool have_pending_ = false;
   bool imu_dominated_ = false;
   ImuBias held_bias_;
+  ImuBias reference_bias_;
+  bool have_reference_bias_ = false;
+  int frames_since_reset_ = 0;
 };
 
 }  // namespace mcvio::estimator

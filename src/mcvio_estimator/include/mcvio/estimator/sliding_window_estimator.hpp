@@ -84,6 +84,12 @@ class SlidingWindowEstimator {
     bool has_speed_bias = true;    ///< in the IMU window
     bool zero_velocity = false;
     bool bias_held = false;        ///< inside an IMU-dominated conflict: biases fixed at the held value
+    /// Vision's rotation from frame `rotation_prev_id` to this one, kept inside an IMU-dominated
+    /// conflict while it agrees with the gyro.
+    bool has_vision_rotation = false;
+    std::uint64_t rotation_prev_id = 0;
+    Eigen::Quaterniond vision_rotation = Eigen::Quaterniond::Identity();
+    Eigen::Matrix3d vision_rotation_sqrt_info = Eigen::Matrix3d::Identity();
     std::unique_ptr<ImuPreintegrator> imu;  ///< from the previous frame, while both are in the IMU window
     std::unordered_map<std::uint64_t, Eigen::Vector2d> cam0, cam1;  ///< track -> normalised coords
   };
@@ -94,7 +100,7 @@ class SlidingWindowEstimator {
     std::array<double, 3> param{0.0, 0.0, 1.0};
     double depth() const { return 1.0 / param[2]; }
   };
-  enum class ResidualKind { kImu, kPrior, kZeroVelocity, kVisual };
+  enum class ResidualKind { kImu, kPrior, kZeroVelocity, kVisual, kVisionRotation };
   struct ResidualRecord {
     ceres::CostFunction* cost;
     ceres::LossFunction* loss;
