@@ -22,6 +22,7 @@
 #include "mcvio/dataset/euroc_file_reader.hpp"
 #include "mcvio/estimator/sliding_window_estimator.hpp"
 #include "mcvio/pipeline/offline_run.hpp"
+#include "mcvio/sim/simulator.hpp"
 
 using namespace mcvio;
 using namespace std::chrono_literals;
@@ -89,13 +90,11 @@ bool waitUntil(Pred pred, std::chrono::seconds timeout) {
   return pred();
 }
 
-}  // namespace
-
-TEST(BackendComponent, LosslessPipelineOnTheRealExcerptGivesTheOfflineEstimatorsPoses) {
-  const auto dir = excerpt();
-  if (dir.empty()) GTEST_SKIP() << "no ../shared/data/euroc_V1_01_excerpt";
+// What a lossless Player -> FrontendComponent -> BackendComponent run on `dir` gave, checked
+// against the estimator fed offline with the same feature frames; returns the DDS poses.
+std::vector<Pose> runOverDdsAndCheckTheEstimatorStage(const std::string& dir, int salt) {
   const auto data = dataset::EurocDataset::open(dir);
-  auto participant = mcvio::dds::Participant::create(participantOptions(43));
+  auto participant = mcvio::dds::Participant::create(participantOptions(salt));
 
   std::mutex m;
   std::vector<Pose> odometry;
@@ -138,7 +137,7 @@ TEST(BackendComponent, LosslessPipelineOnTheRealExcerptGivesTheOfflineEstimators
         statics = t.transforms();
       });
 
-  auto player_participant = mcvio::dds::Participant::create(participantOptions(43));
+  auto player_participant = mcvio::dds::Participant::create(participantOptions(salt));
   components::PlayerOptions po;
   po.lossless = true;
   po.progress = false;
@@ -154,12 +153,12 @@ TEST(BackendComponent, LosslessPipelineOnTheRealExcerptGivesTheOfflineEstimators
   });
   feeder.join();
   const std::size_t pairs = data.stereoFrames().size();
-  ASSERT_TRUE(waitUntil([&] { const auto s = frontend.stats(); return s.frames_published + s.frames_skipped == pairs; }, 120s));
+  EXPECT_TRUE(waitUntil([&] { const auto s = frontend.stats(); return s.frames_published + s.frames_skipped == pairs; }, 120s));
   const std::size_t published = frontend.stats().frames_published;
-  ASSERT_TRUE(waitUntil([&] { return backend.stats().frames_received == published; }, 30s));
+  EXPECT_TRUE(waitUntil([&] { return backend.stats().frames_received == published; }, 30s));
   backend.flush();
   const auto stats = backend.stats();
-  ASSERT_TRUE(waitUntil([&] { std::lock_guard<std::mutex> lock(m); return odometry.size() == stats.poses_published && features.size() == published; }, 30s));
+  EXPECT_TRUE(waitUntil([&] { std::lock_guard<std::mutex> lock(m); return odometry.size() == stats.poses_published && features.size() == published; }, 30s));
 
   std::lock_guard<std::mutex> lock(m);
   EXPECT_EQ(stats.frames_processed, published);
@@ -168,9 +167,11 @@ TEST(BackendComponent, LosslessPipelineOnTheRealExcerptGivesTheOfflineEstimators
   EXPECT_GT(stats.poses_published, 0u);
   EXPECT_EQ(conflict_messages, stats.poses_published);
   EXPECT_TRUE(waitUntil([&] { return tf_messages == stats.poses_published && landmark_clouds == stats.poses_published; }, 5s));
-  ASSERT_EQ(statics.size(), 2u);
-  EXPECT_EQ(statics[0].header().frame_id(), "imu0");
-  EXPECT_EQ(statics[0].child_frame_id(), "cam0");
+  EXPECT_EQ(statics.size(), 2u);
+  if (statics.size() == 2) {
+    EXPECT_EQ(statics[0].header().frame_id(), "imu0");
+    EXPECT_EQ(statics[0].child_frame_id(), "cam0");
+  }
   EXPECT_EQ(first_odometry.header().frame_id(), "world");
   EXPECT_EQ(first_odometry.child_frame_id(), "imu0");
   EXPECT_GT(first_odometry.pose().covariance()[0], 0.0);
@@ -186,16 +187,20 @@ TEST(BackendComponent, LosslessPipelineOnTheRealExcerptGivesTheOfflineEstimators
     const auto e = reference.addFrame(f);
     if (e.status == estimator::EstimatorStatus::kTracking && e.frame_accepted) expected.push_back({e.t, e.p_WB, e.q_WB});
   }
-  ASSERT_EQ(odometry.size(), expected.size());
-  for (std::size_t i = 0; i < odometry.size(); ++i) EXPECT_EQ(odometry[i].t, expected[i].t) << i;
+  EXPECT_EQ(odometry.size(), expected.size());
+  for (std::size_t i = 0; i < std::min(odometry.size(), expected.size()); ++i) EXPECT_EQ(odometry[i].t, expected[i].t) << i;
   const auto [dp, dq] = maxDifference(odometry, expected);
   std::cout << "backend vs offline estimator on the same features: " << odometry.size() << " poses, max difference "
             << dp << " m, " << dq << " rad; backend latency mean " << stats.latency_ms_mean << " ms, max "
-            << stats.latency_ms_max << " ms\n";
+            << stats.latency_ms_max << " ms; estimator CPU mean " << stats.estimator_cpu_ms_mean << " ms\n";
   EXPECT_LT(dp, 1e-6);
   EXPECT_LT(dq, 1e-6);
+  return odometry;
+}
 
-  // The whole pipeline offline (`mcvio run`) on the same data.
+// The same data through `mcvio run`: the same frames get a pose, and the poses agree to
+// `tolerance` (see the callers for why it is not 1e-6 yet).
+void compareWithOfflineRun(const std::string& dir, const std::vector<Pose>& odometry, double tolerance) {
   pipeline::OfflineRunOptions ro;
   ro.dataset_dir = dir;
   ro.output_dir = ::testing::TempDir() + "/backend_component_" + std::to_string(getpid());
@@ -206,16 +211,44 @@ TEST(BackendComponent, LosslessPipelineOnTheRealExcerptGivesTheOfflineEstimators
   ASSERT_EQ(odometry.size(), offline.size());
   for (std::size_t i = 0; i < odometry.size(); ++i) EXPECT_LE(std::abs(odometry[i].t - offline[i].t), 1000) << i;  // tum: 9 decimals of s in a double
   const auto [run_dp, run_dq] = maxDifference(odometry, offline);
-  std::cout << "DDS pipeline vs mcvio run: max difference " << run_dp << " m, " << run_dq << " rad\n";
-  // Not yet to 1e-6 (measured 7.8e-5 m, 8.9e-5 rad): the frontend component's tracker does not
-  // see the IMU that VioPipeline gives its tracker. It hands a stereo pair the IMU samples that
-  // arrived before the pair was complete, and the player publishes a frame before the IMU sample of
-  // the same instant, so the gyro prediction lacks its last sample; and it never gets the
-  // estimator's gyro bias, which VioPipeline feeds back. Different predictions move KLT's result by
-  // sub-pixel amounts. The estimator stage itself matches to 1e-6 above.
-  EXPECT_LT(run_dp, 1e-3);
-  EXPECT_LT(run_dq, 1e-3);
+  std::cout << "DDS pipeline vs mcvio run: " << offline.size() << " poses, max difference " << run_dp << " m, " << run_dq
+            << " rad\n";
+  EXPECT_LT(run_dp, tolerance);
+  EXPECT_LT(run_dq, tolerance);
 }
+
+}  // namespace
+
+// Not yet equal to 1e-6 end to end: the frontend component's tracker does not get the IMU that
+// VioPipeline gives its tracker. It hands a stereo pair the IMU samples that arrived before the
+// pair was complete, and the player publishes a frame before the IMU sample of the same instant,
+// so the gyro prediction lacks its last sample; and it never gets the estimator's gyro bias, which
+// VioPipeline feeds back. Different predictions move KLT's result by sub-pixel amounts. The
+// estimator stage itself matches to 1e-6 (checked inside).
+TEST(BackendComponent, LosslessPipelineOnTheRealExcerptGivesTheOfflineEstimatorsPoses) {
+  const auto dir = excerpt();
+  if (dir.empty()) GTEST_SKIP() << "no ../shared/data/euroc_V1_01_excerpt";
+  const auto odometry = runOverDdsAndCheckTheEstimatorStage(dir, 43);
+  // Measured 7.8e-5 m, 8.9e-5 rad (device at rest).
+  compareWithOfflineRun(dir, odometry, 1e-3);
+}
+
+TEST(BackendComponent, LosslessPipelineOnAMovingSimulatedSequenceGivesTheOfflineEstimatorsPoses) {
+  sim::SimulatorOptions so;
+  so.output_dir = ::testing::TempDir() + "/backend_component_sim_" + std::to_string(getpid());
+  so.overwrite = true;
+  so.seed = 5;
+  so.duration_s = 4.0;
+  so.scenario.kind = sim::ScenarioKind::kNone;
+  so.scenario.onset_s = 1.0;  // unused without a conflict, but validated against the length
+  so.scenario.duration_s = 1.0;
+  sim::Simulator(so).writeDataset();
+  const auto odometry = runOverDdsAndCheckTheEstimatorStage(so.output_dir, 47);
+  // Measured 1.4e-4 m, 1.2e-3 rad (moving; the frontend differences above matter more here).
+  compareWithOfflineRun(so.output_dir, odometry, 1e-2);
+  std::filesystem::remove_all(so.output_dir);
+}
+
 
 TEST(BackendComponent, BadInputIsSkippedAndNoPoseComesBeforeInitialisation) {
   const auto dir = excerpt();

@@ -2,6 +2,7 @@
 
 #include "commands/command_context.hpp"
 #include "mcvio/components/backend_component.hpp"
+#include "mcvio/conflict/conflict_options.hpp"
 #include "mcvio/dds/shutdown_signal.hpp"
 #include "mcvio/pipeline/vio_pipeline.hpp"
 
@@ -66,11 +67,7 @@ void addBackendCommand(CLI::App& app, CommandContext& ctx) {
     auto o = opt->component;
     o.calibration_dir = opt->calib;
     if (!opt->config.empty()) o.estimator = pipeline::VioPipelineOptions::fromYamlFile(opt->config).estimator;
-    if (!opt->mode.empty() && opt->mode != "reference") {
-      // The estimator has no conflict resolution option yet; once EstimatorOptions has
-      // `conflict.mode`, this becomes: o.estimator.conflict.mode = conflict::resolutionModeFromString(opt->mode);
-      throw CommandExit{2, "--mode " + opt->mode + ": this build's estimator only runs the reference mode"};
-    }
+    if (!opt->mode.empty()) o.estimator.conflict.mode = conflict::resolutionModeFromString(opt->mode, "--mode");
     auto participant = dds::Participant::create(ctx.participantOptions("mcvio_backend"));
     components::BackendComponent backend(participant->createNode("backend", "/mcvio"), o);
     std::cerr << "mcvio backend: running; Ctrl-C to stop\n";
