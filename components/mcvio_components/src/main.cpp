@@ -34,7 +34,8 @@ int main(int argc, char** argv) {
       "  mcvio sim --scenario elevator --out /tmp/elevator   render a sequence with a motion conflict\n"
       "  mcvio play /tmp/elevator --rate 2  publish a EuRoC folder on the bus\n"
       "  mcvio record -o /tmp/run --all     record the bus to a rosbag2 bag (MCAP)\n"
-      "  mcvio run --dataset DIR --out OUT  the whole VIO offline: trajectory.tum, stats.json",
+      "  mcvio run --dataset DIR --out OUT  the whole VIO offline: trajectory.tum, stats.json\n"
+      "  mcvio eval --gt DIR --est OUT --out REPORT   ATE/RPE, detection ROC, plots against ground truth",
       "mcvio"};
   app.require_subcommand(1);
   CommandContext ctx;
@@ -48,6 +49,7 @@ int main(int argc, char** argv) {
   app.add_option("--dds-profile", ctx.profile_name,
                  "participant profile name inside --dds-profiles (default: the file's default profile)");
   addTopicsCommand(app, ctx);
+  addEvalCommand(app, ctx);
   addEchoCommand(app, ctx);
   addNodesCommand(app, ctx);
   addDemoCommand(app, ctx);

@@ -103,8 +103,8 @@ AlignmentResult alignPoses(Alignment alignment, const std::vector<StampedPose>& 
 
   const Eigen::Vector3d mu_e = mean(est_p), mu_g = mean(gt_p);
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const auto& p : est_p) cov += (p - mu_e) * (p - mu_e).transpose();
-  cov /= static_cast<double>(est_p.size());
+  for (const auto& p : gt_p) cov += (p - mu_g) * (p - mu_g).transpose();
+  cov /= static_cast<double>(gt_p.size());
   double spread = 0;
   if (alignment == Alignment::kSe3) {
     const Eigen::Vector3d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvalues();  // ascending
@@ -113,6 +113,7 @@ AlignmentResult alignPoses(Alignment alignment, const std::vector<StampedPose>& 
     const Eigen::Vector2d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov.topLeftCorner<2, 2>()).eigenvalues();
     spread = std::sqrt(std::max(0.0, ev(1)));
   }
+  r.position_spread_m = spread;
   if (spread >= options.min_position_spread_m) {
     r.T_gt_est = align(alignment, est_p, gt_p);
     return r;

@@ -51,6 +51,7 @@ AteResult computeAte(const Trajectory& estimate, const Trajectory& ground_truth,
   const AlignmentResult fit = alignPoses(alignment, pairs.estimate, pairs.ground_truth, options.alignment);
   r.T_gt_est = fit.T_gt_est;
   r.rotation_from_orientations = fit.rotation_from_orientations;
+  r.position_spread_m = fit.position_spread_m;
   const Eigen::Quaterniond q_align(r.T_gt_est.linear());
   r.ground_truth = pairs.ground_truth;
   r.aligned_estimate.reserve(pairs.size());

@@ -42,6 +42,7 @@ json asJson(const Eigen::Isometry3d& T) {
 json asJson(const AteResult& a) {
   return {{"alignment", toString(a.alignment)},
           {"rotation_from", a.rotation_from_orientations ? "orientations" : "positions"},
+          {"ground_truth_position_spread_m", a.position_spread_m},
           {"matched", a.translation_errors.size()},
           {"unmatched", a.unmatched},
           {"translation_m", asJson(a.translation)},
@@ -294,7 +295,7 @@ std::string ReportWriter::toMarkdown(const EvaluationReport& report) {
     }
   }
   if (!from_orientations.empty()) {
-    md << "\nPositions spread less than " << fixed(report.options.alignment.min_position_spread_m, 2)
+    md << "\nGround-truth positions spread less than " << fixed(report.options.alignment.min_position_spread_m, 2)
        << " m, so the alignment rotation came from the orientations: " << from_orientations << ".\n";
   }
   if (!compared.empty()) {

@@ -39,8 +39,9 @@ Eigen::Isometry3d align(Alignment alignment, const std::vector<Eigen::Vector3d>&
 struct AlignmentOptions {
   /// Positions fix the rotation only if they spread out: a device at rest (or moving along one
   /// line, for SE(3)) leaves it arbitrary. Below this spread [m] the rotation is taken from the
-  /// orientations instead. The spread is the RMS distance from the mean along the second
-  /// principal axis (SE(3)) or the first horizontal one (position+yaw); 0.1 m keeps the
+  /// orientations instead. The spread is that of the ground-truth positions (so every run of a
+  /// sequence is aligned the same way): the RMS distance from their mean along the second
+  /// principal axis (SE(3)) or the first horizontal one (position+yaw). 0.1 m keeps the
   /// position-based rotation error of centimetre-accurate runs under a few degrees.
   double min_position_spread_m = 0.1;
 };
@@ -51,6 +52,7 @@ struct AlignmentResult {
   /// R_gt_i R_est_i^T (SE(3)) or its best yaw (position+yaw); the translation still matches the
   /// position means.
   bool rotation_from_orientations = false;
+  double position_spread_m = 0;  ///< the ground truth's spread compared with the threshold
 };
 
 /// Alignment of poses paired by index: the position-based closed forms above, or the

@@ -22,6 +22,7 @@ struct AteResult {
   Eigen::Isometry3d T_gt_est = Eigen::Isometry3d::Identity();
   /// The positions barely moved, so the alignment's rotation came from the orientations.
   bool rotation_from_orientations = false;
+  double position_spread_m = 0;  ///< see AlignmentResult
   std::size_t unmatched = 0;  ///< estimate poses without ground truth (not in the errors)
   ErrorStatistics translation;  ///< |p_gt - p_aligned| [m]
   ErrorStatistics rotation;     ///< angle of q_gt^-1 * q_aligned [deg]
