@@ -1,6 +1,7 @@
 #include "mcvio/evaluation/ate.hpp"
 
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 
 #include "mcvio/core/input_error.hpp"
@@ -37,7 +38,7 @@ AteResult computeAte(const Trajectory& estimate, const Trajectory& ground_truth,
   const AssociatedPoses pairs = associate(estimate, ground_truth, options.association);
   if (pairs.size() == 0) {
     std::ostringstream msg;
-    msg << "estimate " << (estimate.source().empty() ? "(unnamed)" : estimate.source())
+    msg << std::fixed << std::setprecision(3) << "estimate " << (estimate.source().empty() ? "(unnamed)" : estimate.source())
         << " and ground truth " << (ground_truth.source().empty() ? "(unnamed)" : ground_truth.source())
         << " share no time: estimate " << estimate.size() << " poses " << toSeconds(estimate.startTime())
         << ".." << toSeconds(estimate.endTime()) << " s, ground truth " << ground_truth.size()

@@ -286,17 +286,18 @@ std::string ReportWriter::toMarkdown(const EvaluationReport& report) {
     }
     md << "\n";
   }
+  // Decided on the ground truth, so the same for every run.
   std::string from_orientations;
-  for (const auto& e : report.estimates) {
-    for (const AteResult* a : {&e.ate_se3, &e.ate_posyaw}) {
-      if (a->rotation_from_orientations) {
-        from_orientations += (from_orientations.empty() ? "" : ", ") + e.name + " (" + toString(a->alignment) + ")";
-      }
+  for (const AteResult* a : {&report.estimates.front().ate_se3, &report.estimates.front().ate_posyaw}) {
+    if (a->rotation_from_orientations) {
+      from_orientations += std::string(from_orientations.empty() ? "" : " and ") +
+                           (a->alignment == Alignment::kSe3 ? "SE(3)" : "pos+yaw") + " (spread " +
+                           fixed(a->position_spread_m, 3) + " m)";
     }
   }
   if (!from_orientations.empty()) {
     md << "\nGround-truth positions spread less than " << fixed(report.options.alignment.min_position_spread_m, 2)
-       << " m, so the alignment rotation came from the orientations: " << from_orientations << ".\n";
+       << " m, so the alignment rotation came from the orientations for " << from_orientations << ".\n";
   }
   if (!compared.empty()) {
     md << "\nReduction: 100 * (baseline - run) / baseline; positive = less error than " << base->name << ".\n";
