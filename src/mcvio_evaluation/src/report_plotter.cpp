@@ -1,5 +1,6 @@
 #include "mcvio/evaluation/report_plotter.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
@@ -44,8 +45,21 @@ std::vector<std::string> ReportPlotter::write(const EvaluationReport& report, co
   std::filesystem::create_directories(dir, ec);
   if (!std::filesystem::is_directory(dir)) throw InputError(dir + ": cannot create report folder");
   std::vector<std::string> written;
-  const Trajectory& gt = report.ground_truth;
-  const Timestamp t0 = gt.startTime();
+  // Ground truth only where the runs are (plus half a second): a long sequence would otherwise
+  // dwarf a short run.
+  Timestamp t_begin = report.ground_truth.endTime(), t_end = report.ground_truth.startTime();
+  for (const auto& e : report.estimates) {
+    if (e.ate_se3.aligned_estimate.empty()) continue;
+    t_begin = std::min(t_begin, e.ate_se3.aligned_estimate.front().t);
+    t_end = std::max(t_end, e.ate_se3.aligned_estimate.back().t);
+  }
+  if (t_end < t_begin) std::swap(t_begin, t_end);
+  Trajectory gt;
+  for (const auto& p : report.ground_truth.poses()) {
+    if (p.t >= t_begin - 500'000'000 && p.t <= t_end + 500'000'000) gt.append(p);
+  }
+  const Timestamp t0 = t_begin;
+  const std::string time_label = "time since the first evaluated pose [s]";
 
   // Top view.
   {
@@ -85,7 +99,7 @@ std::vector<std::string> ReportPlotter::write(const EvaluationReport& report, co
   // Side view: height over time.
   {
     PlotCanvas c("Height over time (runs aligned to ground truth, SE(3))", style);
-    c.setXLabel("time since ground-truth start [s]");
+    c.setXLabel(time_label);
     c.setYLabel("z [m]");
     shadeIntervals(c, report, t0);
     std::vector<double> t, z;
@@ -108,7 +122,7 @@ std::vector<std::string> ReportPlotter::write(const EvaluationReport& report, co
   // Error over time.
   {
     PlotCanvas c("Absolute position error over time (SE(3) alignment)", style);
-    c.setXLabel("time since ground-truth start [s]");
+    c.setXLabel(time_label);
     c.setYLabel("position error [m]");
     shadeIntervals(c, report, t0);
     double max_error = 0;
@@ -123,7 +137,7 @@ std::vector<std::string> ReportPlotter::write(const EvaluationReport& report, co
     }
     // Errors are >= 0: start the axis at zero.
     c.setYRange(0, max_error > 0 ? max_error * 1.08 : 1.0);
-    if (!gt.empty()) c.setXRange(0, std::max(gt.durationSeconds(), 1e-3));
+    c.setXRange(0, std::max(toSeconds(t_end - t_begin), 1e-3));
     written.push_back(dir + "/error_over_time.png");
     c.save(written.back());
   }
