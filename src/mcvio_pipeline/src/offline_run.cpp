@@ -138,6 +138,16 @@ nlohmann::json stageSummaries(const std::map<std::string, StageStats>& stages) {
   return j;
 }
 
+// Seconds with all nine decimals of the nanosecond stamp: a double holds EuRoC-epoch times only to
+// ~200 ns, which breaks matching poses to other per-frame output by time.
+void writeSeconds(std::ostream& out, Timestamp t) {
+  if (t < 0) out << '-';
+  const auto abs_t = static_cast<unsigned long long>(t < 0 ? -t : t);
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%llu.%09llu", abs_t / 1000000000ULL, abs_t % 1000000000ULL);
+  out << buf;
+}
+
 double threadCpuMs() {
   timespec ts{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
@@ -202,7 +212,8 @@ class RunRecorder {
       landmarks.add(e.num_landmarks);
       if (e.status == estimator::EstimatorStatus::kTracking && e.frame_accepted) {
         ++summary.estimated;
-        tum_ << toSeconds(e.t) << ' ' << e.p_WB.x() << ' ' << e.p_WB.y() << ' ' << e.p_WB.z() << ' ' << e.q_WB.x()
+        writeSeconds(tum_, e.t);
+        tum_ << ' ' << e.p_WB.x() << ' ' << e.p_WB.y() << ' ' << e.p_WB.z() << ' ' << e.q_WB.x()
              << ' ' << e.q_WB.y() << ' ' << e.q_WB.z() << ' ' << e.q_WB.w() << '\n';
       }
     }

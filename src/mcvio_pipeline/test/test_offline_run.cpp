@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -100,7 +101,9 @@ struct CachedSequence {
 const CachedSequence& shortRenderedSequence() {
   static const CachedSequence seq = [] {
     CachedSequence s;
-    const sim::Simulator simulator(pipeline::sequences::renderedNone(6.0, 3));
+    auto options = pipeline::sequences::renderedNone(6.0, 3);
+    options.start_time_ns = 1403715273262142976;  // a EuRoC stamp: not a whole number of microseconds
+    const sim::Simulator simulator(options);
     s.input = pipeline::sequences::renderedInput(simulator);
     for (std::size_t i = 0; i < s.input.frame_times.size(); ++i) s.images.push_back(s.input.images(i));
     return s;
@@ -216,6 +219,20 @@ TEST(OfflineRun, PipelinedRunWritesTheSequentialTrajectory) {
   ASSERT_EQ(ta.size(), tb.size());
   for (std::size_t i = 0; i < ta.size(); ++i)
     for (int k = 0; k < 8; ++k) ASSERT_NEAR(ta[i][k], tb[i][k], 1e-7) << "row " << i << " field " << k;
+  // Times are written to the nanosecond, so poses match per-frame output by time.
+  {
+    std::ifstream tum(out + "_pipe/trajectory.tum");
+    std::string line;
+    std::size_t matched = 0;
+    while (std::getline(tum, line)) {
+      if (line.empty() || line[0] == '#') continue;
+      const auto dot = line.find('.'), space = line.find(' ');
+      ASSERT_EQ(space - dot, 10u) << line;
+      const Timestamp t = std::stoll(line.substr(0, dot)) * 1000000000 + std::stoll(line.substr(dot + 1, 9));
+      matched += std::count(seq.input.frame_times.begin(), seq.input.frame_times.end(), t) == 1;
+    }
+    EXPECT_EQ(matched, tb.size());
+  }
   std::ifstream stats(out + "_pipe/stats.json");
   std::stringstream ss;
   ss << stats.rdbuf();
