@@ -150,5 +150,21 @@ TEST(EvaluationOptions, YamlKeysAndErrors) {
   EXPECT_NE(error("rpe_delta_m: -1\n").find(dir + "/bad.yaml"), std::string::npos);
 }
 
+TEST(EvaluationOptions, ShippedConfigHoldsTheDefaults) {
+  if (!std::filesystem::exists(MCVIO_EVAL_CONFIG)) GTEST_SKIP() << "no " << MCVIO_EVAL_CONFIG;
+  const EvaluationOptions o = EvaluationOptions::fromYamlFile(MCVIO_EVAL_CONFIG);
+  const EvaluationOptions d;
+  EXPECT_EQ(o.rpe_delta_s, d.rpe_delta_s);
+  EXPECT_EQ(o.rpe_delta_m, d.rpe_delta_m);
+  EXPECT_EQ(o.rpe_tolerance, d.rpe_tolerance);
+  EXPECT_EQ(o.baseline, d.baseline);
+  EXPECT_EQ(o.association.method, d.association.method);
+  EXPECT_EQ(o.association.max_interpolation_gap_s, d.association.max_interpolation_gap_s);
+  EXPECT_EQ(o.association.max_time_difference_s, d.association.max_time_difference_s);
+  EXPECT_EQ(o.alignment.min_position_spread_m, d.alignment.min_position_spread_m);
+  EXPECT_EQ(o.detection.label_tolerance_s, d.detection.label_tolerance_s);
+  EXPECT_EQ(o.detection.suspected_is_positive, d.detection.suspected_is_positive);
+}
+
 }  // namespace
 }  // namespace mcvio::evaluation
