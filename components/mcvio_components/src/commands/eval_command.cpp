@@ -90,7 +90,9 @@ void addEvalCommand(CLI::App& app, CommandContext&) {
   cmd->add_option("--config", opt->config,
                   "YAML with evaluation options (rpe_delta_s, rpe_delta_m, rpe_tolerance, baseline,\n"
                   "association: {method, max_interpolation_gap_s, max_time_difference_s},\n"
-                  "detection: {label_tolerance_s, suspected_is_positive}); flags given here override it");
+                  "alignment: {min_position_spread_m}: below this ground-truth spread the rotation comes from orientations,\n"
+                  "detection: {label_tolerance_s, suspected_is_positive}), e.g. config/eval.yaml (the defaults);\n"
+                  "flags given here override it");
   cmd->add_flag("--no-plots", opt->no_plots, "skip the PNG figures");
   cmd->add_flag("-q,--quiet", opt->quiet, "do not print the Markdown table");
   cmd->callback([opt, cmd] {
