@@ -267,9 +267,12 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     frames_since_reset_ = std::min(frames_since_reset_, options_.warmup_frames - H - options_.enter_frames);
   }
   if (tracker_.inConflict() && !imu_dominated_) {
-    const bool want_imu =
-        mode == conflict::ResolutionMode::kImu ||
-        (mode == conflict::ResolutionMode::kAuto && (whole || static_count < options_.auto_min_static_landmarks));
+    // Auto: a conflict that opens whole-view (a cabin, a vehicle, a carried object) is
+    // IMU-dominated; one that opens partial (a pedestrian) stays selective unless vision as a
+    // whole disagrees and too few landmarks still agree with the IMU.
+    const bool want_imu = mode == conflict::ResolutionMode::kImu ||
+                          (mode == conflict::ResolutionMode::kAuto && whole &&
+                           (tracker_.justEntered() || static_count < options_.auto_min_static_landmarks));
     if (want_imu) {
       imu_dominated_ = true;
       // The state before the evidence run: the reference frame of its first frame.

@@ -66,7 +66,7 @@ struct ConflictOptions {
   /// Selective: the frontend's inconsistent label counts as a disagreeing verdict.
   bool use_frontend_labels = true;
   /// Auto: selective needs this many landmarks left that agree with the IMU.
-  int auto_min_static_landmarks = 25;
+  int auto_min_static_landmarks = 15;
   /// IMU-dominated: at the start of an interval go back to the state before the first evidence
   /// and propagate it with the IMU, so vision seen during the detection delay is undone.
   bool rewind_on_entry = true;
