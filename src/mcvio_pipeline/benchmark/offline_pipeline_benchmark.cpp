@@ -4,7 +4,10 @@
 // Each render and each run happens in a child process, so the peak memory (getrusage) is the
 // run's own. Prints one Markdown table.
 //
-//   mcvio_pipeline_benchmark [--data DIR] [--seconds S] [--sequential] [--only NAME] [--config FILE]
+//   mcvio_pipeline_benchmark [--data DIR] [--seconds S] [--sequential] [--only NAME]
+//                            [--config FILE | --defaults]
+// The run configuration is share/mcvio_pipeline/config/vio_pipeline.yaml unless --config names
+// another or --defaults asks for the built-in defaults.
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -116,7 +119,7 @@ void runOne(const Sequence& s, const std::string& out, bool pipelined, const std
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string data = "/tmp/mcvio_pipeline_benchmark", only, config;
+  std::string data = "/tmp/mcvio_pipeline_benchmark", only, config = MCVIO_PIPELINE_CONFIG;
   double seconds = 60.0;
   bool pipelined = true;
   for (int i = 1; i < argc; ++i) {
@@ -125,9 +128,10 @@ int main(int argc, char** argv) {
     else if (a == "--seconds" && i + 1 < argc) seconds = std::stod(argv[++i]);
     else if (a == "--only" && i + 1 < argc) only = argv[++i];
     else if (a == "--config" && i + 1 < argc) config = argv[++i];
+    else if (a == "--defaults") config.clear();
     else if (a == "--sequential") pipelined = false;
     else {
-      std::cerr << "usage: " << argv[0] << " [--data DIR] [--seconds S] [--sequential] [--only NAME] [--config FILE]\n";
+      std::cerr << "usage: " << argv[0] << " [--data DIR] [--seconds S] [--sequential] [--only NAME] [--config FILE | --defaults]\n";
       return 2;
     }
   }
@@ -184,7 +188,7 @@ int main(int argc, char** argv) {
   }
 
   std::cout << "\n" << (pipelined ? "pipelined" : "sequential") << " runOffline"
-            << (config.empty() ? std::string() : ", config " + config) << "; load average before " << load_before
+            << ", config " << (config.empty() ? std::string("built-in defaults") : config) << "; load average before " << load_before
             << ", after " << loadAverage() << " (2 cores)\n\n";
   std::cout << "| sequence | frames | poses | resets | ATE pos+yaw [m] | ATE SE3 [m] | RPE 1 s [m / deg] | NEES pos "
                "| backend median [ms CPU] | frontend median [ms CPU] | decode median [ms CPU] | wall [s] | CPU [s] "

@@ -1,6 +1,7 @@
 // Accuracy of the whole offline pipeline (real frontend on rendered images + estimator) on clean
 // 60 s sequences: the synthetic office (`none`) and semi-real V1_01 (rendered along the real
-// ground truth, real IMU). Each test renders its frames while the run consumes them.
+// ground truth, real IMU), with the shipped config/vio_pipeline.yaml. Each test renders its frames
+// while the run consumes them (no files), so the decoding stage is the renderer.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -27,6 +28,7 @@ pipeline::sequences::RunAccuracy runAndEvaluate(const sim::Simulator& simulator,
   o.dataset_dir = name;
   o.output_dir = out;
   o.progress = false;
+  o.config_file = MCVIO_PIPELINE_CONFIG;  // the shipped, measured configuration
   CovarianceLog covariances;
   o.on_frame = [&](std::size_t, const pipeline::VioFrameResult& r) { covariances.add(r); };
   *summary = pipeline::runOffline(pipeline::sequences::renderedInput(simulator), o);
