@@ -1,0 +1,234 @@
+// BenchmarkSuite: option checks, the plan, target bookkeeping on constructed results, and one
+// short simulated elevator run end to end (deterministic seed).
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "mcvio/evaluation/benchmark_report_writer.hpp"
+#include "mcvio/evaluation/benchmark_suite.hpp"
+
+using namespace mcvio::evaluation;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string invalidMessage(const BenchmarkOptions& o) {
+  try {
+    o.validate();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+BenchmarkRun makeRun(const std::string& mode, double ate, double rpe, double tpr, double fpr, double cpu) {
+  BenchmarkRun r;
+  r.mode = mode;
+  r.ate_posyaw_m = ate;
+  r.rpe_translation_m = rpe;
+  r.tpr = tpr;
+  r.fpr = fpr;
+  r.cpu_mean_ms = cpu;
+  return r;
+}
+
+}  // namespace
+
+TEST(BenchmarkOptions, DefaultsAndQuickAreValid) {
+  EXPECT_NO_THROW(BenchmarkOptions{}.validate());
+  EXPECT_NO_THROW(BenchmarkOptions::quick().validate());
+}
+
+TEST(BenchmarkOptions, BadValuesNameTheOption) {
+  BenchmarkOptions o;
+  o.modes = {"imu", "auto"};
+  EXPECT_NE(invalidMessage(o).find("modes: must include 'reference'"), std::string::npos) << invalidMessage(o);
+  o = {};
+  o.modes = {"reference", "fast"};
+  EXPECT_NE(invalidMessage(o).find("modes"), std::string::npos) << invalidMessage(o);
+  o = {};
+  o.scenarios = {"none", "tornado"};
+  EXPECT_NE(invalidMessage(o).find("scenarios"), std::string::npos) << invalidMessage(o);
+  o = {};
+  o.sweep_scenarios = {"pedestrian"};
+  EXPECT_NE(invalidMessage(o).find("sweep_scenarios"), std::string::npos) << invalidMessage(o);
+  o = {};
+  o.conflict_duration_s = 50;
+  EXPECT_NE(invalidMessage(o).find("conflict_duration_s"), std::string::npos) << invalidMessage(o);
+  o = {};
+  o.seeds = {1, 1};
+  EXPECT_NE(invalidMessage(o).find("seeds"), std::string::npos) << invalidMessage(o);
+  o = {};
+  o.jobs = 0;
+  EXPECT_NE(invalidMessage(o).find("jobs"), std::string::npos) << invalidMessage(o);
+  EXPECT_THROW(BenchmarkSuite{o}, std::invalid_argument);
+}
+
+TEST(BenchmarkSuite, PlanHasEveryScenarioSeedAndTheSweep) {
+  BenchmarkOptions o;
+  o.seeds = {3, 4};
+  o.sweep_durations_s = {0, 10, 40};
+  const auto plan = BenchmarkSuite(o).plan();
+  ASSERT_EQ(plan.size(), 6u * 2u + 2u * 3u);
+  EXPECT_EQ(plan[0].name, "none_s3");
+  EXPECT_FALSE(plan[0].hasConflict());
+  EXPECT_EQ(plan[3].name, "elevator_s4");
+  EXPECT_TRUE(plan[3].hasConflict());
+  EXPECT_DOUBLE_EQ(plan[3].conflict_duration_s, 15.0);
+  EXPECT_DOUBLE_EQ(plan[3].travel_m, 0.0);
+  const auto& zero = plan[12];
+  EXPECT_TRUE(zero.sweep);
+  EXPECT_EQ(zero.name, "sweep_elevator_0s_s3");
+  EXPECT_FALSE(zero.hasConflict());
+  EXPECT_GT(zero.travel_m, 0.0);
+  EXPECT_LT(zero.travel_m, 1e-3);
+  const auto& longest = plan[17];
+  EXPECT_EQ(longest.name, "sweep_vehicle_40s_s3");
+  EXPECT_DOUBLE_EQ(longest.duration_s, 20.0 + 40.0 + 15.0);
+  EXPECT_DOUBLE_EQ(longest.travel_m, 4.0 * 40.0);
+}
+
+TEST(BenchmarkSuite, TargetsCountPassesAndTheWorstRun) {
+  BenchmarkResult result;
+  result.options.modes = {"reference", "auto"};
+  auto sequence = [](const std::string& scenario, double conflict_s) {
+    BenchmarkSequenceResult sr;
+    sr.sequence.scenario = scenario;
+    sr.sequence.name = scenario + "_s1";
+    sr.sequence.conflict_duration_s = conflict_s;
+    sr.conflict_frames = conflict_s > 0 ? 100 : 0;
+    return sr;
+  };
+  // Elevator: 90% less ATE, 50% less RPE, detection 0.97/0.01, 10% added CPU, ride 2% off.
+  auto elevator = sequence("elevator", 15);
+  elevator.runs = {makeRun("reference", 10.0, 0.2, 0.5, 0.0, 10.0), makeRun("auto", 1.0, 0.1, 0.97, 0.01, 11.0)};
+  for (auto& r : elevator.runs) {
+    r.ate_reduction_percent = 100.0 * (10.0 - r.ate_posyaw_m) / 10.0;
+    r.rpe_reduction_percent = 100.0 * (0.2 - r.rpe_translation_m) / 0.2;
+    r.added_cost_percent = 100.0 * (r.cpu_mean_ms - 10.0) / 10.0;
+  }
+  elevator.runs[1].ride_error_percent = 2.0;
+  // Vehicle: only 50% less ATE and TPR 0.9.
+  auto vehicle = sequence("vehicle", 15);
+  vehicle.runs = {makeRun("reference", 2.0, 0.2, 0.5, 0.0, 10.0), makeRun("auto", 1.0, 0.1, 0.9, 0.0, 10.0)};
+  vehicle.runs[1].ate_reduction_percent = 50.0;
+  vehicle.runs[1].rpe_reduction_percent = 50.0;
+  vehicle.runs[1].added_cost_percent = 0.0;
+  // Clean: 3% more ATE, FPR 0.05.
+  auto clean = sequence("none", 0);
+  clean.runs = {makeRun("reference", 1.0, 0.1, NAN, 0.0, 10.0), makeRun("auto", 1.03, 0.1, NAN, 0.05, 10.0)};
+  clean.runs[1].ate_reduction_percent = -3.0;
+  clean.runs[1].added_cost_percent = 0.0;
+  result.sequences = {elevator, vehicle, clean};
+
+  BenchmarkSuite::applyTargets(result);
+  const auto& e = result.sequences[0].runs[1].checks;
+  EXPECT_TRUE(e.ate_reduction.value_or(false));
+  EXPECT_TRUE(e.rpe_reduction.value_or(false));
+  EXPECT_FALSE(e.clean_ate.has_value());
+  EXPECT_TRUE(e.detection.value_or(false));
+  EXPECT_TRUE(e.ride_displacement.value_or(false));
+  EXPECT_TRUE(e.cost.value_or(false));
+  EXPECT_TRUE(e.allPass());
+  const auto& v = result.sequences[1].runs[1].checks;
+  EXPECT_FALSE(v.ate_reduction.value_or(true));
+  EXPECT_FALSE(v.detection.value_or(true));
+  EXPECT_FALSE(v.ride_displacement.has_value());
+  EXPECT_FALSE(v.allPass());
+  const auto& c = result.sequences[2].runs[1].checks;
+  EXPECT_TRUE(c.clean_ate.value_or(false));
+  EXPECT_FALSE(c.detection.value_or(true));  // FPR 0.05 > 0.02
+  EXPECT_FALSE(c.ate_reduction.has_value());
+  EXPECT_FALSE(result.sequences[0].runs[0].checks.ate_reduction.has_value());  // reference is the baseline
+
+  auto summary = [&](const std::string& prefix) -> const BenchmarkTargetSummary& {
+    for (const auto& t : result.targets)
+      if (t.target.rfind(prefix, 0) == 0) return t;
+    throw std::runtime_error("no target " + prefix);
+  };
+  const auto& ate = summary("conflict ATE reduction");
+  EXPECT_EQ(ate.mode, "auto");
+  EXPECT_EQ(ate.passed, 1u);
+  EXPECT_EQ(ate.total, 2u);
+  EXPECT_FALSE(ate.pass());
+  EXPECT_DOUBLE_EQ(ate.worst, 50.0);
+  EXPECT_EQ(ate.worst_sequence, "vehicle_s1");
+  const auto& fpr = summary("detection FPR");
+  EXPECT_EQ(fpr.total, 3u);
+  EXPECT_EQ(fpr.passed, 2u);
+  EXPECT_DOUBLE_EQ(fpr.worst, 0.05);
+  const auto& clean_target = summary("clean ATE");
+  EXPECT_TRUE(clean_target.pass());
+  EXPECT_NEAR(clean_target.worst, 3.0, 1e-12);
+  EXPECT_TRUE(summary("added backend CPU").pass());
+  EXPECT_DOUBLE_EQ(summary("added backend CPU").worst, 10.0);
+}
+
+TEST(BenchmarkSuite, ShortElevatorRunEndToEnd) {
+  BenchmarkOptions o = BenchmarkOptions::quick();
+  o.scenarios = {"elevator"};
+  o.modes = {"reference", "imu"};
+  o.sequence_duration_s = 22.0;
+  o.onset_s = 8.0;
+  o.conflict_duration_s = 8.0;
+  o.sweep_durations_s = {0};
+  o.sweep_scenarios = {"vehicle"};
+  o.sweep_tail_s = 4.0;
+  o.jobs = 2;
+  std::size_t calls = 0, last_total = 0;
+  const BenchmarkResult result = BenchmarkSuite(o).run([&](std::size_t done, std::size_t total, const std::string& line) {
+    ++calls;
+    last_total = total;
+    EXPECT_LE(done, total);
+    EXPECT_FALSE(line.empty());
+  });
+  EXPECT_EQ(calls, 4u);
+  EXPECT_EQ(last_total, 4u);
+  ASSERT_EQ(result.sequences.size(), 2u);
+  const auto& sr = result.sequences[0];
+  EXPECT_EQ(sr.sequence.name, "elevator_s1");
+  EXPECT_EQ(sr.frames, std::size_t(22.0 * 20.0) + 1);  // both ends
+  EXPECT_GT(sr.conflict_frames, 100u);
+  ASSERT_EQ(sr.runs.size(), 2u);
+  for (const auto& r : sr.runs) {
+    SCOPED_TRACE(r.mode);
+    EXPECT_GT(r.tracked_frames, sr.frames / 2);
+    EXPECT_TRUE(std::isfinite(r.ate_posyaw_m));
+    EXPECT_TRUE(std::isfinite(r.ate_se3_m));
+    EXPECT_TRUE(std::isfinite(r.ate_posyaw_in_conflict_m));
+    EXPECT_TRUE(std::isfinite(r.rpe_translation_m));
+    EXPECT_EQ(r.tp + r.fp + r.tn + r.fn, r.tracked_frames);
+    EXPECT_GT(r.cpu_median_ms, 0.0);
+    // The elevator's 12 m ride falls inside the labelled interval.
+    EXPECT_GT(r.ride_truth_dz_m, 10.0);
+    EXPECT_TRUE(std::isfinite(r.ride_estimate_dz_m));
+  }
+  EXPECT_DOUBLE_EQ(sr.runs[0].ate_reduction_percent, 0.0);
+  EXPECT_TRUE(std::isfinite(sr.runs[1].ate_reduction_percent));
+  EXPECT_TRUE(sr.runs[1].checks.ate_reduction.has_value());
+  EXPECT_TRUE(sr.runs[1].checks.ride_displacement.has_value());
+  // The zero-length sweep point has no conflict labels.
+  EXPECT_TRUE(result.sequences[1].sequence.sweep);
+  EXPECT_EQ(result.sequences[1].conflict_frames, 0u);
+
+  const fs::path dir = fs::temp_directory_path() / "mcvio_benchmark_suite_test";
+  fs::remove_all(dir);
+  const auto files = BenchmarkReportWriter::write(result, dir.string());
+  for (const char* name : {"bench.json", "bench.md", "ate_by_scenario.png", "rpe_by_scenario.png", "ate_vs_duration_vehicle.png"})
+    EXPECT_TRUE(fs::is_regular_file(dir / name) && fs::file_size(dir / name) > 100) << name;
+  std::ifstream jf(dir / "bench.json");
+  const auto j = nlohmann::json::parse(jf);
+  ASSERT_EQ(j["sequences"].size(), 2u);
+  EXPECT_DOUBLE_EQ(j["sequences"][0]["runs"][1]["ate_posyaw_rmse_m"].get<double>(), sr.runs[1].ate_posyaw_m);
+  EXPECT_EQ(j["sequences"][0]["runs"][1]["checks"]["all_pass"].get<bool>(), sr.runs[1].checks.allPass());
+  const std::string md = BenchmarkReportWriter::toMarkdown(result);
+  EXPECT_NE(md.find("| elevator_s1 | imu |"), std::string::npos);
+  EXPECT_NE(md.find("## Elevator ride"), std::string::npos);
+  EXPECT_NE(md.find("| vehicle | 0 |"), std::string::npos);
+  fs::remove_all(dir);
+}
