@@ -184,6 +184,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   const int H = options_.horizon_frames;
   bool evidence = false, whole = false, rotation_agrees = false;
   int static_count = 0;
+  std::vector<conflict::LandmarkConflictDetector::Verdict> verdicts;
   const bool selective_active = mode == conflict::ResolutionMode::kSelective || mode == conflict::ResolutionMode::kAuto;
   if (static_cast<int>(history_.size()) >= H) {
     const std::size_t r_index = history_.size() - static_cast<std::size_t>(H);
@@ -240,19 +241,22 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
                            lm.fraction >= options_.partial_min_fraction && lm.coherence >= options_.min_coherence;
       if (lm.tested >= options_.min_landmarks_tested && lm.fraction >= options_.whole_view_fraction) whole = true;
       evidence = (whole || partial) && frames_since_reset_ >= options_.warmup_frames;
-      // Inside an IMU-dominated interval every landmark disagrees with the inertial motion;
-      // that says nothing about which of them move once the interval is over.
-      if (selective_active && !imu_dominated_)
-        for (const auto& v : lm.verdicts)
-          if (classifier_.addVerdict(v.track_id, v.inconsistent)) d.eliminate.push_back(v.track_id);
+      verdicts = lm.verdicts;
     }
   }
-  if (selective_active && !imu_dominated_ && options_.use_frontend_labels)
-    for (const auto id : frontend_inconsistent)
-      if (cam0.count(id) != 0 && classifier_.addVerdict(id, true)) d.eliminate.push_back(id);
   pending_.evidence = evidence;
 
   const auto state = tracker_.update(t, evidence);
+  // Selective elimination acts only around detected conflicts, so a clean sequence keeps every
+  // landmark (and the reference's accuracy). Inside an IMU-dominated interval every landmark
+  // disagrees with the inertial motion; that says nothing about which of them move afterwards.
+  if (selective_active && !imu_dominated_ && state != conflict::ConflictIntervalTracker::State::kNone) {
+    for (const auto& v : verdicts)
+      if (classifier_.addVerdict(v.track_id, v.inconsistent)) d.eliminate.push_back(v.track_id);
+    if (options_.use_frontend_labels)
+      for (const auto id : frontend_inconsistent)
+        if (cam0.count(id) != 0 && classifier_.addVerdict(id, true)) d.eliminate.push_back(id);
+  }
   d.report.state = state == conflict::ConflictIntervalTracker::State::kConflict    ? ConflictReport::State::kConflict
                    : state == conflict::ConflictIntervalTracker::State::kSuspected ? ConflictReport::State::kSuspected
                                                                                     : ConflictReport::State::kNone;

@@ -179,10 +179,21 @@ struct LoadedFrame {
 class RunRecorder {
  public:
   RunRecorder(const std::string& tum_path, std::size_t frames, const OfflineRunOptions& options, double data_seconds)
-      : tum_(tum_path), bar_("run", frames, options.progress), on_frame_(options.on_frame), data_seconds_(data_seconds),
+      : tum_(tum_path),
+        conflict_(options.output_dir + "/conflict.csv"),
+        secondary_(options.output_dir + "/secondary.tum"),
+        bar_("run", frames, options.progress),
+        on_frame_(options.on_frame),
+        data_seconds_(data_seconds),
         frames_total_(frames) {
     if (!tum_) throw InputError("cannot write " + tum_path);
+    if (!conflict_) throw InputError("cannot write " + options.output_dir + "/conflict.csv");
+    if (!secondary_) throw InputError("cannot write " + options.output_dir + "/secondary.tum");
     tum_ << "# t x y z qx qy qz qw  (pose of imu0 in world; t in seconds)\n" << std::setprecision(9) << std::fixed;
+    conflict_ << "timestamp_ns,state,propagated_chi2,propagated_threshold,landmarks_tested,landmarks_inconsistent,"
+                 "inconsistent_fraction,coherence,interval_start_ns,resolution_mode\n";
+    secondary_ << "# t x y z qx qy qz qw  (the conflicting frame S in world, identity at the interval start; t in seconds)\n"
+               << std::setprecision(9) << std::fixed;
   }
 
   void add(std::size_t i, const VioFrameResult& r, double load_cpu_ms) {
@@ -215,6 +226,18 @@ class RunRecorder {
         writeSeconds(tum_, e.t);
         tum_ << ' ' << e.p_WB.x() << ' ' << e.p_WB.y() << ' ' << e.p_WB.z() << ' ' << e.q_WB.x()
              << ' ' << e.q_WB.y() << ' ' << e.q_WB.z() << ' ' << e.q_WB.w() << '\n';
+        const auto& c = e.conflict;
+        conflict_ << e.t << ',' << estimator::toString(c.state) << ',' << c.propagated_chi2 << ','
+                  << c.propagated_threshold << ',' << c.landmarks_tested << ',' << c.landmarks_inconsistent << ','
+                  << c.inconsistent_fraction << ',' << c.coherence << ',' << c.interval_start << ','
+                  << c.resolution_mode << '\n';
+        conflict_frames += c.state == estimator::ConflictReport::State::kConflict ? 1 : 0;
+        if (c.secondary_valid) {
+          writeSeconds(secondary_, e.t);
+          secondary_ << ' ' << c.p_WS.x() << ' ' << c.p_WS.y() << ' ' << c.p_WS.z() << ' ' << c.q_WS.x() << ' '
+                     << c.q_WS.y() << ' ' << c.q_WS.z() << ' ' << c.q_WS.w() << '\n';
+        }
+        backend_stage_ms["conflict"].add(e.timings.conflict_ms);
       }
     }
     if (i % 5 == 0 || i + 1 == frames_total_) {
@@ -232,11 +255,11 @@ class RunRecorder {
   OfflineRunSummary summary;
   StageStats loader_ms, frontend_ms, backend_ms, features, stereo, landmarks, iterations;
   std::map<std::string, StageStats> backend_stage_ms;  ///< wall time of the estimator's stages
-  std::size_t keyframes = 0, zero_velocity = 0, not_initialized = 0;
+  std::size_t keyframes = 0, zero_velocity = 0, not_initialized = 0, conflict_frames = 0;
   std::map<std::string, std::size_t> skip_reasons;
 
  private:
-  std::ofstream tum_;
+  std::ofstream tum_, conflict_, secondary_;
   ProgressBar bar_;
   std::function<void(std::size_t, const VioFrameResult&)> on_frame_;
   const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
@@ -342,7 +365,9 @@ OfflineRunSummary runOffline(const OfflineInput& data, const OfflineRunOptions& 
   if (data.frame_times.empty()) throw InputError(options.dataset_dir + ": no stereo frames to run on");
   if (data.imu.empty()) throw InputError(options.dataset_dir + ": no IMU samples");
   if (!data.images) throw InputError(options.dataset_dir + ": no image source");
-  const auto vio_options = options.config_file.empty() ? VioPipelineOptions{} : VioPipelineOptions::fromYamlFile(options.config_file);
+  auto vio_options = options.config_file.empty() ? VioPipelineOptions{} : VioPipelineOptions::fromYamlFile(options.config_file);
+  if (!options.mode.empty())
+    vio_options.estimator.conflict.mode = conflict::resolutionModeFromString(options.mode, "mcvio run --mode");
   fs::create_directories(options.output_dir);
   const double data_seconds = toSeconds(data.frame_times.back() - data.frame_times.front());
   RunRecorder rec(options.output_dir + "/trajectory.tum", data.frame_times.size(), options, data_seconds);
@@ -376,6 +401,8 @@ OfflineRunSummary runOffline(const OfflineInput& data, const OfflineRunOptions& 
       {"resets", summary.resets},
       {"keyframes", rec.keyframes},
       {"zero_velocity_frames", rec.zero_velocity},
+      {"conflict_mode", conflict::toString(vio_options.estimator.conflict.mode)},
+      {"conflict_frames", rec.conflict_frames},
       {"wall_seconds", summary.wall_seconds},
       {"cpu_seconds", summary.cpu_seconds},
       {"data_seconds", summary.data_seconds},

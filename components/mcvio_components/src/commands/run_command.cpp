@@ -8,14 +8,16 @@ namespace mcvio::cli {
 void addRunCommand(CLI::App& app, CommandContext&) {
   auto opt = std::make_shared<pipeline::OfflineRunOptions>();
   auto quiet = std::make_shared<bool>(false);
-  auto mode = std::make_shared<std::string>("reference");
   auto* cmd = app.add_subcommand(
       "run",
       "Run the whole VIO (frontend + sliding-window estimator) over a EuRoC folder without DDS,\n"
       "deterministically. Writes OUT/trajectory.tum (t x y z qx qy qz qw: imu0 in world, t in s) and\n"
-      "OUT/stats.json (per-stage CPU time, features, keyframes, resets).\n"
+      "OUT/conflict.csv (per-frame motion-conflict statistics), OUT/secondary.tum (the conflicting frame,\n"
+      "e.g. an elevator cabin, in the world while it is tracked) and OUT/stats.json (per-stage CPU time,\n"
+      "features, keyframes, resets, peak memory).\n"
       "Examples:\n"
       "  mcvio run --dataset ../shared/data/euroc_V1_01_excerpt --out /tmp/run\n"
+      "  mcvio run --dataset /tmp/elevator --out /tmp/run_elevator --mode auto\n"
       "  mcvio run --dataset /tmp/elevator --out /tmp/run_elevator --config my_vio.yaml\n"
       "  mcvio run --dataset /tmp/recorded_bag --calib ../shared/data/euroc_V1_01_excerpt --out /tmp/run_bag");
   cmd->add_option("--dataset", opt->dataset_dir,
@@ -25,9 +27,12 @@ void addRunCommand(CLI::App& app, CommandContext&) {
                   "EuRoC folder whose sensor.yaml files give the stereo calibration (required for bags)");
   cmd->add_option("--out", opt->output_dir, "output folder (created)")->required();
   cmd->add_option("--config", opt->config_file, "YAML with `frontend:` and `estimator:` option sections");
-  cmd->add_option("--mode", *mode, "conflict handling; only `reference` (none) exists so far")
-      ->check(CLI::IsMember({"reference"}))
-      ->capture_default_str();
+  cmd->add_option("--mode", opt->mode,
+                  "motion-conflict handling: reference (detect and report only), imu (IMU-dominated: drop the\n"
+                  "conflicting visual residuals, hold the biases), selective (eliminate the landmarks that move),\n"
+                  "auto (selective while enough static landmarks remain, IMU-dominated otherwise);\n"
+                  "default: the config's estimator.conflict.mode, else reference")
+      ->check(CLI::IsMember({"reference", "imu", "selective", "auto"}));
   cmd->add_flag("-q,--quiet", *quiet, "no progress bar");
   cmd->callback([opt, quiet] {
     opt->progress = !*quiet;

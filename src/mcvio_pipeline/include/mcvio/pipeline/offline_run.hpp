@@ -17,6 +17,9 @@ struct OfflineRunOptions {
   std::string calibration_dir;
   std::string output_dir;   ///< trajectory.tum, stats.json
   std::string config_file;  ///< VioPipelineOptions YAML; empty = defaults
+  /// Conflict resolution mode (reference, imu, selective, auto); empty keeps the config's
+  /// `estimator.conflict.mode`.
+  std::string mode;
   bool progress = true;
   /// Image decoding, frontend and estimator on three threads, each a frame or more ahead of the
   /// next (the estimator sees the same input as with false, so the trajectory is the same);
@@ -50,9 +53,11 @@ struct OfflineInput {
 
 /// `mcvio run`: the whole pipeline over a EuRoC folder or a recorded bag without DDS, deterministic.
 /// A bag is read into memory first (images included): fine for minutes, not for hours. Writes
-/// OUT/trajectory.tum (t x y z qx qy qz qw per tracked frame, pose of imu0 in world, t in s) and
-/// OUT/stats.json (per-stage CPU time, wall time, frames/s, real-time factor, peak memory,
-/// features, keyframes, statuses). Throws mcvio::InputError for bad input.
+/// OUT/trajectory.tum (t x y z qx qy qz qw per tracked frame, pose of imu0 in world, t in s),
+/// OUT/conflict.csv (the motion-conflict statistics of every estimated frame), OUT/secondary.tum
+/// (the conflicting frame S in the world while it is tracked) and OUT/stats.json (per-stage CPU
+/// time, wall time, frames/s, real-time factor, peak memory, features, keyframes, statuses).
+/// Throws mcvio::InputError for bad input.
 OfflineRunSummary runOffline(const OfflineRunOptions& options);
 
 /// The same run over an input the caller holds; options.dataset_dir only names it in stats.json
