@@ -313,7 +313,20 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_DOUBLE_EQ(o.max_time_without_vision_s, d.max_time_without_vision_s);
   EXPECT_EQ(o.right_camera_in_all_frames, d.right_camera_in_all_frames);
   const YAML::Node root = YAML::LoadFile(std::string(MCVIO_ESTIMATOR_CONFIG_DIR) + "/estimator.yaml");
-  EXPECT_EQ(root.size(), 45u) << "every option appears once";
+  EXPECT_EQ(root.size(), 46u) << "every option appears once";
+  // The conflict section lists every conflict option with its default.
+  const auto& c = o.conflict;
+  const conflict::ConflictOptions dc;
+  EXPECT_EQ(c.mode, dc.mode);
+  EXPECT_EQ(c.horizon_frames, dc.horizon_frames);
+  EXPECT_DOUBLE_EQ(c.velocity_sigma_mps, dc.velocity_sigma_mps);
+  EXPECT_DOUBLE_EQ(c.accel_bias_sigma, dc.accel_bias_sigma);
+  EXPECT_DOUBLE_EQ(c.propagated_chi2_threshold, dc.propagated_chi2_threshold);
+  EXPECT_DOUBLE_EQ(c.landmark_chi2_threshold, dc.landmark_chi2_threshold);
+  EXPECT_EQ(c.auto_min_static_landmarks, dc.auto_min_static_landmarks);
+  EXPECT_EQ(c.rewind_frames, dc.rewind_frames);
+  EXPECT_EQ(c.exit_frames, dc.exit_frames);
+  EXPECT_EQ(root["conflict"].size(), 27u) << "every conflict option appears once";
 }
 
 }  // namespace
