@@ -137,7 +137,7 @@ void writeBarChart(const std::string& path, const std::string& title, const std:
 std::string BenchmarkReportWriter::toJson(const BenchmarkResult& result) {
   const auto& o = result.options;
   json j;
-  j["level"] = "features";
+  j["level"] = result.level;
   j["wall_s"] = result.wall_s;
   j["options"] = {{"modes", o.modes},
                   {"scenarios", o.scenarios},
@@ -230,10 +230,14 @@ std::string BenchmarkReportWriter::toMarkdown(const BenchmarkResult& result) {
   for (auto s : o.seeds) seeds.push_back(std::to_string(s));
   std::vector<std::string> sweep;
   for (double d : o.sweep_durations_s) sweep.push_back(fmt("%g", d));
-  md << "# MC-VIO benchmark (feature level)\n\n"
-     << "FeatureSimulator tracks (pixel noise " << fmt("%g", o.features.pixel_noise_sigma) << " px, track labels "
-     << (o.oracle_track_labels ? "from the ground truth (oracle)" : "cleared: no oracle") << ") -> SlidingWindowEstimator"
-     << " per mode. Scenarios: " << join(o.scenarios) << "; seeds " << join(seeds) << "; " << fmt("%g", o.sequence_duration_s)
+  md << "# MC-VIO benchmark (" << (result.level == "images" ? "image" : "feature") << " level)\n\n";
+  if (result.level == "images")
+    md << "Rendered stereo images (mcvio_sim) -> the whole offline pipeline (frontend + estimator) per mode.";
+  else
+    md << "FeatureSimulator tracks (pixel noise " << fmt("%g", o.features.pixel_noise_sigma) << " px, track labels "
+       << (o.oracle_track_labels ? "from the ground truth (oracle)" : "cleared: no oracle") << ") -> SlidingWindowEstimator"
+       << " per mode.";
+  md << " Scenarios: " << join(o.scenarios) << "; seeds " << join(seeds) << "; " << fmt("%g", o.sequence_duration_s)
      << " s sequences, conflict " << fmt("%g", o.conflict_duration_s) << " s from " << fmt("%g", o.onset_s) << " s. Modes: "
      << join(o.modes) << ".";
   if (!o.sweep_durations_s.empty())

@@ -53,43 +53,27 @@ DetectorRecord::State toRecordState(estimator::ConflictReport::State s) {
   }
 }
 
-/// What one estimator pass over a sequence produced, before evaluation.
-struct EstimatorPass {
-  Trajectory estimate;
-  std::vector<DetectorRecord> records;
-  std::vector<double> cpu_ms, conflict_ms;
-  std::size_t frames = 0;
-  int resets = 0;
-  double wall_s = 0;
-  /// Elevator ride bookkeeping over the frames labelled in conflict.
-  bool seen_label = false;
-  Timestamp label_first = 0, label_last = 0;
-  double est_z_first = 0, est_z_last = 0;
-  bool secondary_seen = false;
-  double secondary_z = 0;
-};
-
-EstimatorPass runEstimator(const sim::FeatureSequence& seq, const std::string& mode, double pixel_sigma) {
+BenchmarkModeRun runEstimator(const sim::FeatureSequence& seq, const std::string& mode, double pixel_sigma) {
   estimator::EstimatorOptions eo;
   eo.observation_sigma_px = pixel_sigma;
   eo.conflict.mode = conflict::resolutionModeFromString(mode, "mode");
   estimator::SlidingWindowEstimator est(eo, seq.calibration);
-  EstimatorPass pass;
+  BenchmarkModeRun run;
+  run.mode = mode;
   const auto t0 = Clock::now();
-  std::size_t k = 0, li = 0;
-  std::vector<StampedPose> poses;
+  std::size_t k = 0;
+  std::vector<StampedPose> poses, secondary;
   poses.reserve(seq.frames.size());
   for (const auto& f : seq.frames) {
     while (k < seq.imu.size() && seq.imu[k].t <= f.t) est.addImu(seq.imu[k++]);
     const estimator::EstimatorOutput out = est.addFrame(f);
-    ++pass.frames;
-    while (li + 1 < seq.labels.size() && seq.labels[li].t < f.t) ++li;
-    const bool label = li < seq.labels.size() && seq.labels[li].t == f.t && seq.labels[li].in_conflict;
+    ++run.frames;
     if (!out.frame_accepted || out.status != estimator::EstimatorStatus::kTracking) continue;
     if (!poses.empty() && out.t <= poses.back().t) continue;
     poses.push_back({out.t, out.p_WB, out.q_WB.normalized()});
-    pass.cpu_ms.push_back(out.timings.cpu_total_ms);
-    pass.conflict_ms.push_back(out.timings.conflict_ms);
+    if (out.conflict.secondary_valid) secondary.push_back({out.t, out.conflict.p_WS, out.conflict.q_WS.normalized()});
+    run.cpu_ms.push_back(out.timings.cpu_total_ms);
+    run.conflict_ms.push_back(out.timings.conflict_ms);
     DetectorRecord r;
     r.t = out.t;
     r.state = toRecordState(out.conflict.state);
@@ -101,25 +85,13 @@ EstimatorPass runEstimator(const sim::FeatureSequence& seq, const std::string& m
     r.coherence = out.conflict.coherence;
     r.interval_start = out.conflict.interval_start;
     r.resolution_mode = out.conflict.resolution_mode;
-    pass.records.push_back(r);
-    if (label) {
-      if (!pass.seen_label) {
-        pass.seen_label = true;
-        pass.label_first = out.t;
-        pass.est_z_first = out.p_WB.z();
-      }
-      pass.label_last = out.t;
-      pass.est_z_last = out.p_WB.z();
-      if (out.conflict.secondary_valid) {
-        pass.secondary_seen = true;
-        pass.secondary_z = out.conflict.p_WS.z();
-      }
-    }
+    run.detector.push_back(r);
   }
-  pass.wall_s = secondsSince(t0);
-  pass.resets = est.resetCount();
-  pass.estimate = Trajectory(std::move(poses), mode);
-  return pass;
+  run.wall_s = secondsSince(t0);
+  run.resets = est.resetCount();
+  run.estimate = Trajectory(std::move(poses), mode);
+  run.secondary = Trajectory(std::move(secondary), mode + " secondary");
+  return run;
 }
 
 const std::vector<std::string> kDetectorColumns = {
@@ -190,9 +162,6 @@ std::vector<BenchmarkSequence> BenchmarkSuite::plan() const {
 
 BenchmarkSequenceResult BenchmarkSuite::runSequence(const BenchmarkSequence& sequence,
                                                     const std::function<void(const std::string&)>& on_run) const {
-  BenchmarkSequenceResult result;
-  result.sequence = sequence;
-
   sim::SimulatorOptions so;
   so.seed = sequence.seed;
   so.duration_s = sequence.duration_s;
@@ -203,14 +172,11 @@ BenchmarkSequenceResult BenchmarkSuite::runSequence(const BenchmarkSequence& seq
   so.validate();
   const auto t_sim = Clock::now();
   sim::FeatureSequence seq = sim::simulateFeatureSequence(so, options_.features);
-  result.simulate_s = secondsSince(t_sim);
+  const double simulate_s = secondsSince(t_sim);
   if (!options_.oracle_track_labels) {
     for (auto& f : seq.frames)
       for (auto& o : f.features) o.label = TrackLabel::kUnknown;
   }
-  result.frames = seq.frames.size();
-  for (const auto& l : seq.labels) result.conflict_frames += l.in_conflict ? 1 : 0;
-
   std::vector<StampedPose> gt_poses;
   gt_poses.reserve(seq.ground_truth.size());
   for (const auto& g : seq.ground_truth) {
@@ -220,45 +186,59 @@ BenchmarkSequenceResult BenchmarkSuite::runSequence(const BenchmarkSequence& seq
   const Trajectory ground_truth(std::move(gt_poses), sequence.name + " ground truth");
   const ConflictLabelTimeline labels(seq.labels, sequence.name + " labels");
 
-  std::vector<EstimatorPass> passes;
-  std::vector<EstimateInput> inputs;
+  std::vector<BenchmarkModeRun> runs;
   for (const auto& mode : options_.modes) {
-    EstimatorPass pass = runEstimator(seq, mode, options_.features.pixel_noise_sigma);
+    BenchmarkModeRun run = runEstimator(seq, mode, options_.features.pixel_noise_sigma);
     if (on_run) {
-      std::string line = sequence.name + " " + mode + ": " + std::to_string(pass.estimate.size()) + "/" +
-                         std::to_string(pass.frames) + " frames tracked";
-      if (pass.estimate.size() >= 2) {
-        const AteResult quick = computeAte(pass.estimate, ground_truth, Alignment::kPositionYaw);
+      std::string line = sequence.name + " " + mode + ": " + std::to_string(run.estimate.size()) + "/" +
+                         std::to_string(run.frames) + " frames tracked";
+      if (run.estimate.size() >= 2) {
+        const AteResult quick = computeAte(run.estimate, ground_truth, Alignment::kPositionYaw);
         line += ", ATE pos+yaw " + fmt("%.3f", quick.translation.rmse) + " m";
       }
-      line += ", " + fmt("%.2f", median(pass.cpu_ms)) + " ms/frame, " + fmt("%.1f", pass.wall_s) + " s";
+      line += ", " + fmt("%.2f", median(run.cpu_ms)) + " ms/frame, " + fmt("%.1f", run.wall_s) + " s";
       on_run(line);
     }
-    EstimateInput in;
-    in.name = mode;
-    in.trajectory = pass.estimate;
-    in.detector = DetectorLog(pass.records, kDetectorColumns, mode);
-    inputs.push_back(std::move(in));
-    passes.push_back(std::move(pass));
+    runs.push_back(std::move(run));
   }
+  BenchmarkSequenceResult result = evaluateSequence(sequence, ground_truth, labels, runs, options_);
+  result.frames = seq.frames.size();
+  result.simulate_s = simulate_s;
+  return result;
+}
+
+BenchmarkSequenceResult BenchmarkSuite::evaluateSequence(const BenchmarkSequence& sequence, const Trajectory& ground_truth,
+                                                         const ConflictLabelTimeline& labels,
+                                                         const std::vector<BenchmarkModeRun>& runs,
+                                                         const BenchmarkOptions& options) {
+  BenchmarkSequenceResult result;
+  result.sequence = sequence;
+  result.frames = labels.labels().size();
+  result.conflict_frames = labels.conflictFrames();
+  const double label_tolerance_s = 0.02;
 
   EvaluationOptions eo;
   eo.baseline = "reference";
-  eo.rpe_delta_s = options_.rpe_delta_s;
-  eo.detection.label_tolerance_s = 0.5 / so.camera_rate_hz;
-  // Modes that never tracked have no poses; the Evaluator needs every estimate to have some.
+  eo.rpe_delta_s = options.rpe_delta_s;
+  eo.detection.label_tolerance_s = label_tolerance_s;
+  // A mode that never tracked has no poses; the Evaluator needs every estimate to have some.
   std::vector<EstimateInput> evaluable;
-  for (const auto& in : inputs)
-    if (in.trajectory.size() >= 2) evaluable.push_back(in);
+  for (const auto& run : runs) {
+    if (run.estimate.size() < 2) continue;
+    EstimateInput in;
+    in.name = run.mode;
+    in.trajectory = run.estimate;
+    in.detector = DetectorLog(run.detector, kDetectorColumns, run.mode);
+    evaluable.push_back(std::move(in));
+  }
   std::optional<EvaluationReport> report;
-  if (!evaluable.empty() && std::any_of(evaluable.begin(), evaluable.end(), [](const EstimateInput& e) { return e.name == "reference"; }))
+  if (std::any_of(evaluable.begin(), evaluable.end(), [](const EstimateInput& e) { return e.name == "reference"; }))
     report = Evaluator(eo).evaluate(ground_truth, evaluable, labels);
 
   const bool elevator = sequence.scenario == "elevator" && sequence.hasConflict();
-  for (std::size_t i = 0; i < options_.modes.size(); ++i) {
-    const EstimatorPass& pass = passes[i];
+  for (const auto& pass : runs) {
     BenchmarkRun run;
-    run.mode = options_.modes[i];
+    run.mode = pass.mode;
     run.frames = pass.frames;
     run.tracked_frames = pass.estimate.size();
     run.resets = pass.resets;
@@ -286,7 +266,7 @@ BenchmarkSequenceResult BenchmarkSuite::runSequence(const BenchmarkSequence& seq
           if (roc.score == "inconsistent_fraction") run.auc_fraction = roc.auc;
           if (roc.positives == 0 || roc.negatives == 0) continue;
           for (const auto& p : roc.points) {
-            if (p.fpr <= options_.targets.max_fpr && (!std::isfinite(run.roc_best_tpr) || p.tpr > run.roc_best_tpr)) {
+            if (p.fpr <= options.targets.max_fpr && (!std::isfinite(run.roc_best_tpr) || p.tpr > run.roc_best_tpr)) {
               run.roc_best_tpr = p.tpr;
               run.roc_best_score = roc.score;
             }
@@ -294,16 +274,29 @@ BenchmarkSequenceResult BenchmarkSuite::runSequence(const BenchmarkSequence& seq
         }
       }
     }
-    if (elevator && pass.seen_label && pass.label_last > pass.label_first) {
-      const auto g0 = ground_truth.interpolate(pass.label_first, 0.1);
-      const auto g1 = ground_truth.interpolate(pass.label_last, 0.1);
-      if (g0 && g1) {
-        run.ride_truth_dz_m = g1->p.z() - g0->p.z();
-        run.ride_estimate_dz_m = pass.est_z_last - pass.est_z_first;
-        run.ride_error_percent = percentError(run.ride_estimate_dz_m, run.ride_truth_dz_m);
-        if (pass.secondary_seen) {
-          run.secondary_dz_m = pass.secondary_z;
-          run.secondary_error_percent = percentError(run.secondary_dz_m, run.ride_truth_dz_m);
+    if (elevator) {
+      // First and last tracked frames labelled in conflict: the ride as this run saw it.
+      const StampedPose* first = nullptr;
+      const StampedPose* last = nullptr;
+      for (const auto& p : pass.estimate.poses()) {
+        if (!labels.inConflictAt(p.t, label_tolerance_s).value_or(false)) continue;
+        if (!first) first = &p;
+        last = &p;
+      }
+      if (first && last && last->t > first->t) {
+        const auto g0 = ground_truth.interpolate(first->t, 0.1);
+        const auto g1 = ground_truth.interpolate(last->t, 0.1);
+        if (g0 && g1) {
+          run.ride_truth_dz_m = g1->p.z() - g0->p.z();
+          run.ride_estimate_dz_m = last->p.z() - first->p.z();
+          run.ride_error_percent = percentError(run.ride_estimate_dz_m, run.ride_truth_dz_m);
+          const StampedPose* s_last = nullptr;
+          for (const auto& s : pass.secondary.poses())
+            if (s.t >= first->t && s.t <= last->t) s_last = &s;
+          if (s_last) {
+            run.secondary_dz_m = s_last->p.z();
+            run.secondary_error_percent = percentError(run.secondary_dz_m, run.ride_truth_dz_m);
+          }
         }
       }
     }

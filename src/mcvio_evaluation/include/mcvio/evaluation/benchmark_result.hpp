@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "mcvio/evaluation/benchmark_options.hpp"
+#include "mcvio/evaluation/detector_record.hpp"
+#include "mcvio/evaluation/trajectory.hpp"
 
 namespace mcvio::evaluation {
 
@@ -23,6 +25,20 @@ struct BenchmarkSequence {
 
   /// Scenarios whose labels mark a conflict (all but "none" and zero-length sweeps).
   bool hasConflict() const { return scenario != "none" && conflict_duration_s > 0; }
+};
+
+/// The raw output of one mode on one sequence, before evaluation: whatever produced it (the
+/// feature-level estimator here, an image-level `mcvio run` elsewhere).
+struct BenchmarkModeRun {
+  std::string mode;
+  Trajectory estimate;                  ///< body in world per tracked frame
+  std::vector<DetectorRecord> detector; ///< per tracked frame
+  Trajectory secondary;                 ///< the conflicting frame S in world while it is tracked
+  std::vector<double> cpu_ms;           ///< backend CPU per frame
+  std::vector<double> conflict_ms;      ///< conflict stage per frame (wall clock)
+  std::size_t frames = 0;               ///< frames fed
+  int resets = 0;
+  double wall_s = 0;
 };
 
 /// Pass/fail of the targets that apply to one run; empty optionals do not apply.
@@ -102,6 +118,7 @@ struct BenchmarkTargetSummary {
 
 /// A whole benchmark: options, every sequence and the target summary.
 struct BenchmarkResult {
+  std::string level = "features";  ///< "features" or "images"
   BenchmarkOptions options;
   std::vector<BenchmarkSequenceResult> sequences;  ///< scenario sequences, then the sweep
   std::vector<BenchmarkTargetSummary> targets;

@@ -5,6 +5,7 @@
 
 #include "mcvio/evaluation/benchmark_options.hpp"
 #include "mcvio/evaluation/benchmark_result.hpp"
+#include "mcvio/evaluation/conflict_label_timeline.hpp"
 
 namespace mcvio::evaluation {
 
@@ -31,6 +32,13 @@ class BenchmarkSuite {
   /// Simulates one sequence and runs every mode on it; `on_run` gets a one-line summary per mode.
   BenchmarkSequenceResult runSequence(const BenchmarkSequence& sequence,
                                       const std::function<void(const std::string&)>& on_run = {}) const;
+
+  /// Measures every mode's run of one sequence against its ground truth and labels and against
+  /// the `reference` run (which `runs` must hold). Used by runSequence() and by image-level runs.
+  static BenchmarkSequenceResult evaluateSequence(const BenchmarkSequence& sequence, const Trajectory& ground_truth,
+                                                  const ConflictLabelTimeline& labels,
+                                                  const std::vector<BenchmarkModeRun>& runs,
+                                                  const BenchmarkOptions& options);
 
   /// Fills each run's checks and result.targets from the measured values.
   static void applyTargets(BenchmarkResult& result);
