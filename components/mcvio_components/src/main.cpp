@@ -35,7 +35,8 @@ int main(int argc, char** argv) {
       "  mcvio play /tmp/elevator --rate 2  publish a EuRoC folder on the bus\n"
       "  mcvio record -o /tmp/run --all     record the bus to a rosbag2 bag (MCAP)\n"
       "  mcvio run --dataset DIR --out OUT  the whole VIO offline: trajectory.tum, stats.json\n"
-      "  mcvio eval --gt DIR --est OUT --out REPORT   ATE/RPE, detection ROC, plots against ground truth",
+      "  mcvio eval --gt DIR --est OUT --out REPORT   ATE/RPE, detection ROC, plots against ground truth\n"
+      "  mcvio bench --out DIR             the MC-VIO benchmark suite: every scenario and mode, one report",
       "mcvio"};
   app.require_subcommand(1);
   CommandContext ctx;
@@ -50,6 +51,7 @@ int main(int argc, char** argv) {
                  "participant profile name inside --dds-profiles (default: the file's default profile)");
   addTopicsCommand(app, ctx);
   addEvalCommand(app, ctx);
+  addBenchCommand(app, ctx);
   addEchoCommand(app, ctx);
   addNodesCommand(app, ctx);
   addDemoCommand(app, ctx);

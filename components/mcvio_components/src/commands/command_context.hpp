@@ -20,6 +20,7 @@ struct CommandContext {
 /// Each subcommand adds itself to the app; the callback runs when it is chosen.
 void addTopicsCommand(CLI::App& app, CommandContext& ctx);
 void addEvalCommand(CLI::App& app, CommandContext& ctx);
+void addBenchCommand(CLI::App& app, CommandContext& ctx);
 void addEchoCommand(CLI::App& app, CommandContext& ctx);
 void addNodesCommand(CLI::App& app, CommandContext& ctx);
 void addDemoCommand(CLI::App& app, CommandContext& ctx);

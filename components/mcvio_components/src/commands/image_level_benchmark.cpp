@@ -1,0 +1,157 @@
+#include "commands/image_level_benchmark.hpp"
+
+#include <chrono>
+#include <filesystem>
+#include <mutex>
+
+#include "mcvio/core/input_error.hpp"
+#include "mcvio/evaluation/detector_log.hpp"
+#include "mcvio/evaluation/trajectory_io.hpp"
+#include "mcvio/pipeline/offline_run.hpp"
+#include "mcvio/sim/image_injector.hpp"
+#include "mcvio/sim/simulator.hpp"
+
+namespace mcvio::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+namespace ev = mcvio::evaluation;
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+/// mav0/ of a EuRoC folder given as the folder or as mav0 itself.
+fs::path mav0Of(const std::string& dir) {
+  const fs::path p(dir);
+  return fs::is_directory(p / "mav0") ? p / "mav0" : p;
+}
+
+/// One mode of `mcvio run` over a rendered folder, read back as a benchmark run.
+ev::BenchmarkModeRun runMode(const std::string& dataset, const std::string& out, const std::string& mode,
+                             const std::string& config) {
+  pipeline::OfflineRunOptions ro;
+  ro.dataset_dir = dataset;
+  ro.output_dir = out;
+  ro.mode = mode;
+  ro.config_file = config;
+  ro.progress = false;
+  ev::BenchmarkModeRun run;
+  run.mode = mode;
+  std::mutex mutex;  // on_frame comes from the estimator thread
+  ro.on_frame = [&](std::size_t, const pipeline::VioFrameResult& r) {
+    if (!r.estimated || !r.estimate.frame_accepted || r.estimate.status != estimator::EstimatorStatus::kTracking) return;
+    std::lock_guard<std::mutex> lock(mutex);
+    run.cpu_ms.push_back(r.estimate.timings.cpu_total_ms);
+    run.conflict_ms.push_back(r.estimate.timings.conflict_ms);
+  };
+  const auto t0 = Clock::now();
+  const pipeline::OfflineRunSummary summary = pipeline::runOffline(ro);
+  run.wall_s = secondsSince(t0);
+  run.frames = summary.frames;
+  run.resets = int(summary.resets);
+  const fs::path o(out);
+  run.estimate = ev::loadTum((o / "trajectory.tum").string());
+  run.detector = ev::DetectorLog::load((o / "conflict.csv").string()).records();
+  if (fs::is_regular_file(o / "secondary.tum") && fs::file_size(o / "secondary.tum") > 0) {
+    try {
+      run.secondary = ev::loadTum((o / "secondary.tum").string());
+    } catch (const InputError&) {
+      run.secondary = {};  // no secondary frame tracked in this run: the file holds only its header
+    }
+  }
+  return run;
+}
+
+}  // namespace
+
+ImageLevelBenchmark::ImageLevelBenchmark(Options options) : options_(std::move(options)) {
+  options_.suite.validate();
+  if (options_.work_dir.empty()) throw std::invalid_argument("work_dir: empty");
+  if (!options_.semi_real_dir.empty()) {
+    const fs::path m = mav0Of(options_.semi_real_dir);
+    for (const char* f : {"state_groundtruth_estimate0/data.csv", "imu0/data.csv"})
+      if (!fs::is_regular_file(m / f)) throw InputError(options_.semi_real_dir + ": no mav0/" + f + " for the semi-real sequence");
+  }
+}
+
+ev::BenchmarkResult ImageLevelBenchmark::run(const ev::BenchmarkSuite::Progress& progress) const {
+  const auto t0 = Clock::now();
+  const ev::BenchmarkOptions& so = options_.suite;
+  std::vector<ev::BenchmarkSequence> plan = ev::BenchmarkSuite(so).plan();
+  if (!options_.semi_real_dir.empty()) {
+    ev::BenchmarkSequence s;
+    s.scenario = "injected_overlay";
+    s.name = "overlay_semi_real";
+    s.seed = so.seeds.front();
+    s.onset_s = options_.overlay_onset_s;
+    s.conflict_duration_s = options_.overlay_duration_s;
+    plan.push_back(s);
+  }
+  const std::size_t total = plan.size() * so.modes.size();
+  std::size_t done = 0;
+  auto report = [&](const std::string& line) {
+    ++done;
+    if (progress) progress(done, total, line);
+  };
+
+  ev::BenchmarkResult result;
+  result.level = "images";
+  result.options = so;
+  for (auto& sequence : plan) {
+    const fs::path data = fs::path(options_.work_dir) / "data" / sequence.name;
+    const auto t_render = Clock::now();
+    sim::SimulatorOptions sim;
+    sim.output_dir = data.string();
+    sim.overwrite = true;
+    sim.seed = sequence.seed;
+    if (sequence.scenario == "injected_overlay") {
+      // Render the office along the recorded ground truth with the real IMU, then inject the overlay.
+      const fs::path m = mav0Of(options_.semi_real_dir);
+      sim.groundtruth_csv = (m / "state_groundtruth_estimate0/data.csv").string();
+      sim.imu_csv = (m / "imu0/data.csv").string();
+      sim.calibration_dir = options_.semi_real_dir;
+      sim.output_dir = (data.string() + "_base");
+      sim::Simulator(sim).writeDataset();
+      sim::InjectOptions inject;
+      inject.input_dir = sim.output_dir;
+      inject.output_dir = data.string();
+      inject.overwrite = true;
+      inject.onset_s = sequence.onset_s;
+      inject.duration_s = sequence.conflict_duration_s;
+      inject.seed = sequence.seed;
+      sim::runInjection(inject);
+    } else {
+      sim.duration_s = sequence.duration_s;
+      sim.scenario.kind = sim::scenarioKindFromString(sequence.scenario);
+      sim.scenario.onset_s = sequence.onset_s;
+      sim.scenario.duration_s = sequence.conflict_duration_s;
+      sim.scenario.travel_m = sequence.travel_m;
+      sim::Simulator(sim).writeDataset();
+    }
+    const double render_s = secondsSince(t_render);
+
+    const ev::Trajectory ground_truth = ev::loadEurocGroundTruth(data.string());
+    const ev::ConflictLabelTimeline labels = ev::ConflictLabelTimeline::load(data.string());
+    if (sequence.scenario == "injected_overlay")
+      sequence.duration_s = ground_truth.durationSeconds();
+    std::vector<ev::BenchmarkModeRun> runs;
+    for (const auto& mode : so.modes) {
+      const fs::path out = fs::path(options_.work_dir) / "runs" / sequence.name / mode;
+      runs.push_back(runMode(data.string(), out.string(), mode, options_.pipeline_config));
+      const auto& r = runs.back();
+      char buf[160];
+      std::snprintf(buf, sizeof buf, ": %zu/%zu frames tracked, %.1f s (rendered in %.0f s)", r.estimate.size(), r.frames,
+                    r.wall_s, render_s);
+      report(sequence.name + " " + mode + buf);
+    }
+    ev::BenchmarkSequenceResult sr = ev::BenchmarkSuite::evaluateSequence(sequence, ground_truth, labels, runs, so);
+    sr.simulate_s = render_s;
+    result.sequences.push_back(std::move(sr));
+  }
+  ev::BenchmarkSuite::applyTargets(result);
+  result.wall_s = secondsSince(t0);
+  return result;
+}
+
+}  // namespace mcvio::cli

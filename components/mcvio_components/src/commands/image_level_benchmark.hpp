@@ -1,0 +1,37 @@
+#pragma once
+#include <string>
+
+#include "mcvio/evaluation/benchmark_result.hpp"
+#include "mcvio/evaluation/benchmark_suite.hpp"
+
+namespace mcvio::cli {
+
+/// `mcvio bench --level images`: the benchmark on rendered images through the whole offline
+/// pipeline. Each planned sequence is rendered with mcvio_sim to WORK/data/<name> (a EuRoC folder
+/// with conflict labels), every mode runs `mcvio run` (runOffline) into WORK/runs/<name>/<mode>,
+/// and BenchmarkSuite::evaluateSequence measures the runs as at feature level. With a semi-real
+/// source, an extra sequence is rendered along its recorded ground truth with its real IMU and
+/// the injected-overlay experiment (`mcvio inject --scenario overlay`) is added on top of it.
+/// Rendering takes about a minute per minute of sequence, so this is for a few sequences.
+class ImageLevelBenchmark {
+ public:
+  struct Options {
+    evaluation::BenchmarkOptions suite;  ///< modes, scenarios, seeds, durations (and the sweep if set)
+    std::string work_dir;                ///< rendered data and per-mode run folders
+    std::string pipeline_config;         ///< VioPipelineOptions YAML; empty: defaults
+    /// EuRoC folder whose ground truth and IMU drive the semi-real overlay sequence; empty: none.
+    std::string semi_real_dir;
+    double overlay_onset_s = 5.0;     ///< after the first frame of the semi-real sequence
+    double overlay_duration_s = 4.0;
+  };
+
+  explicit ImageLevelBenchmark(Options options);
+  /// Renders, runs and evaluates everything; `progress` as BenchmarkSuite::run. Throws
+  /// mcvio::InputError for unreadable input or unwritable folders.
+  evaluation::BenchmarkResult run(const evaluation::BenchmarkSuite::Progress& progress = {}) const;
+
+ private:
+  Options options_;
+};
+
+}  // namespace mcvio::cli
