@@ -29,10 +29,9 @@ void addBackendCommand(CLI::App& app, CommandContext& ctx) {
       "  mcvio backend --calib ../shared/data/euroc_V1_01_excerpt\n"
       "  mcvio backend --calib /tmp/elevator --config my_vio.yaml --mode reference --lossless\n"
       "  mcvio backend --calib /tmp/elevator --path-max 0 --landmarks-every 5 --world-frame odom\n"
-      "A lossless pipeline on one machine (three shells):\n"
-      "  mcvio backend --calib DIR --lossless\n"
-      "  mcvio frontend --calib DIR --lossless\n"
-      "  mcvio play DIR --lossless");
+      "A lossless pipeline (a lossless player needs a reader of every topic it plays, e.g. the recorder):\n"
+      "  mcvio backend --calib DIR --lossless &  mcvio frontend --calib DIR --lossless &\n"
+      "  mcvio record -o /tmp/rec --all &  mcvio play DIR --lossless");
   cmd->add_option("--calib", opt->calib,
                   "EuRoC folder whose cam0/cam1/imu0 sensor.yaml give extrinsics and IMU noise, e.g. "
                   "--calib ../shared/data/euroc_V1_01_excerpt")
@@ -56,12 +55,15 @@ void addBackendCommand(CLI::App& app, CommandContext& ctx) {
       ->capture_default_str();
   cmd->add_option("--landmarks-every", opt->component.landmarks_every_n_frames,
                   "publish /mcvio/landmarks every N estimated frames, 0 = never, e.g. --landmarks-every 5")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_option("--path-max", opt->component.max_path_poses,
                   "keep the newest N poses in /mcvio/path, 0 = all (every message grows with the run)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_option("--max-imu-wait", opt->component.max_imu_wait_s,
                   "without --lossless: a frame waits at most this long for /imu0 to reach its stamp [s]")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->callback([opt, &ctx] {
     auto o = opt->component;
