@@ -10,6 +10,8 @@ void SecondaryMotionTracker::begin(Timestamp t, const Eigen::Isometry3d& T_WB) {
   T_WS_.setIdentity();
   v_WS_.setZero();
   last_t_ = t;
+  recent_.clear();
+  recent_.emplace_back(t, Eigen::Vector3d::Zero());
 }
 
 void SecondaryMotionTracker::addVisionIncrement(const Eigen::Isometry3d& T_prev_cur, bool valid) {
@@ -24,9 +26,10 @@ void SecondaryMotionTracker::addVisionIncrement(const Eigen::Isometry3d& T_prev_
 bool SecondaryMotionTracker::update(Timestamp t, const Eigen::Isometry3d& T_WB) {
   if (!active_ || !chain_ok_) return false;
   const Eigen::Isometry3d T_WS = T_WB * T_SB_.inverse();
-  const double dt = toSeconds(t - last_t_);
-  // Finite differences of S: the cabin's speed is smooth, and this is what a user plots.
-  if (dt > 0) v_WS_ = (T_WS.translation() - T_WS_.translation()) / dt;
+  recent_.emplace_back(t, T_WS.translation());
+  while (recent_.size() > 2 && toSeconds(t - recent_[1].first) >= 0.5) recent_.pop_front();
+  const double dt = toSeconds(t - recent_.front().first);
+  if (dt > 0) v_WS_ = (T_WS.translation() - recent_.front().second) / dt;
   T_WS_ = T_WS;
   last_t_ = t;
   have_estimate_ = true;

@@ -213,13 +213,13 @@ TEST(SecondaryMotionTracker, CabinMotionIsInertialMinusVisual) {
   // The body walks 0.1 m along its x inside the cabin per step; the cabin rises 0.5 m per step.
   Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
   step.translation() = Eigen::Vector3d(0.1, 0, 0);
-  for (int k = 1; k <= 4; ++k) {
+  for (int k = 1; k <= 8; ++k) {
     T_WB.translation() += Eigen::Vector3d(0.1, 0, 0.5);
     s.addVisionIncrement(step, true);
     ASSERT_TRUE(s.update(k * 100'000'000LL, T_WB));
   }
   EXPECT_TRUE(s.valid());
-  EXPECT_LT((s.T_WS().translation() - Eigen::Vector3d(0, 0, 2.0)).norm(), 1e-9);
+  EXPECT_LT((s.T_WS().translation() - Eigen::Vector3d(0, 0, 4.0)).norm(), 1e-9);
   EXPECT_NEAR(s.v_WS().z(), 5.0, 1e-6);
   s.addVisionIncrement(step, false);
   EXPECT_FALSE(s.valid());

@@ -1,4 +1,7 @@
 #pragma once
+#include <deque>
+#include <utility>
+
 #include <Eigen/Geometry>
 
 #include "mcvio/core/time.hpp"
@@ -23,6 +26,7 @@ class SecondaryMotionTracker {
   bool active() const { return active_; }
   bool valid() const { return active_ && chain_ok_ && have_estimate_; }
   const Eigen::Isometry3d& T_WS() const { return T_WS_; }
+  /// Velocity of S over the last half second (per-frame differences are dominated by noise).
   const Eigen::Vector3d& v_WS() const { return v_WS_; }
 
  private:
@@ -31,6 +35,7 @@ class SecondaryMotionTracker {
   Eigen::Isometry3d T_WS_ = Eigen::Isometry3d::Identity();
   Eigen::Vector3d v_WS_ = Eigen::Vector3d::Zero();
   Timestamp last_t_ = 0;
+  std::deque<std::pair<Timestamp, Eigen::Vector3d>> recent_;
 };
 
 }  // namespace mcvio::conflict
