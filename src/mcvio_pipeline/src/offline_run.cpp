@@ -161,6 +161,15 @@ double processCpuSeconds() {
   return sec(u.ru_utime) + sec(u.ru_stime);
 }
 
+// The 1-minute load average (Linux), so wall-clock figures can be read against the machine's load;
+// negative when unknown.
+double loadAverage() {
+  std::ifstream in("/proc/loadavg");
+  double load = -1;
+  in >> load;
+  return in ? load : -1.0;
+}
+
 double peakRssMb() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
@@ -374,6 +383,7 @@ OfflineRunSummary runOffline(const OfflineInput& data, const OfflineRunOptions& 
 
   VioPipeline vio(data.calibration, vio_options);
   const double cpu0 = processCpuSeconds();
+  const double load_start = loadAverage();
   const auto start = Clock::now();
   if (options.pipelined) {
     runPipelined(data, vio, rec);
@@ -409,6 +419,7 @@ OfflineRunSummary runOffline(const OfflineInput& data, const OfflineRunOptions& 
       {"frames_per_second", summary.framesPerSecond()},
       {"realtime_factor", summary.realtimeFactor()},
       {"peak_rss_mb", summary.peak_rss_mb},
+      {"load_average_1min", {{"start", load_start}, {"end", loadAverage()}}},
       {"cpu_ms_per_frame",
        {{"image_loading", rec.loader_ms.summary()}, {"frontend", rec.frontend_ms.summary()}, {"backend", rec.backend_ms.summary()}}},
       {"backend_wall_ms_per_frame", stageSummaries(rec.backend_stage_ms)},

@@ -236,7 +236,7 @@ TEST(OfflineRun, PipelinedRunWritesTheSequentialTrajectory) {
   std::ifstream stats(out + "_pipe/stats.json");
   std::stringstream ss;
   ss << stats.rdbuf();
-  for (const char* key : {"\"peak_rss_mb\"", "\"realtime_factor\"", "\"frames_per_second\"", "\"image_loading\"", "\"cpu_seconds\""})
+  for (const char* key : {"\"peak_rss_mb\"", "\"realtime_factor\"", "\"frames_per_second\"", "\"image_loading\"", "\"cpu_seconds\"", "\"load_average_1min\""})
     EXPECT_NE(ss.str().find(key), std::string::npos) << key;
   std::filesystem::remove_all(out + "_seq");
   std::filesystem::remove_all(out + "_pipe");
