@@ -66,6 +66,8 @@ void ConflictOptions::validate() const {
   require(exit_frames >= 1, "exit_frames", "must be >= 1", exit_frames);
   require(rotation_chi2_threshold > 0, "rotation_chi2_threshold", "must be > 0", rotation_chi2_threshold);
   require(rewind_frames >= 0 && rewind_frames <= 400, "rewind_frames", "must be in [0, 400]", rewind_frames);
+  require(auto_split_fraction > 0 && auto_split_fraction <= 1, "auto_split_fraction", "must be in (0, 1]",
+          auto_split_fraction);
   require(selective_strikes >= 1, "selective_strikes", "must be >= 1", selective_strikes);
   require(auto_min_static_landmarks >= 0, "auto_min_static_landmarks", "must be >= 0", auto_min_static_landmarks);
 }
@@ -110,6 +112,7 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("selective_strikes", &o.selective_strikes);
   read("use_frontend_labels", &o.use_frontend_labels);
   read("auto_min_static_landmarks", &o.auto_min_static_landmarks);
+  read("auto_split_fraction", &o.auto_split_fraction);
   read("rewind_on_entry", &o.rewind_on_entry);
   read("rewind_frames", &o.rewind_frames);
   read("keep_consistent_rotation", &o.keep_consistent_rotation);

@@ -271,12 +271,17 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     frames_since_reset_ = std::min(frames_since_reset_, options_.warmup_frames - H - options_.enter_frames);
   }
   if (tracker_.inConflict() && !imu_dominated_) {
-    // Auto: a conflict that opens whole-view (a cabin, a vehicle, a carried object) is
-    // IMU-dominated; one that opens partial (a pedestrian) stays selective unless vision as a
-    // whole disagrees and too few landmarks still agree with the IMU.
+    // Auto: a conflict that opens whole-view without a static group (a closed cabin) is
+    // IMU-dominated; one that opens partial (a pedestrian) or with a clear split stays selective
+    // unless vision as a whole disagrees and too few landmarks still agree with the IMU.
+    // A clear split (a large disagreeing group next to enough landmarks that agree with the IMU,
+    // e.g. a carried laptop or a vehicle's interior in front of a static street) is selective.
+    const bool clear_split = d.report.inconsistent_fraction >= options_.auto_split_fraction &&
+                             static_count >= options_.auto_min_static_landmarks;
     const bool want_imu = mode == conflict::ResolutionMode::kImu ||
                           (mode == conflict::ResolutionMode::kAuto && whole &&
-                           (tracker_.justEntered() || static_count < options_.auto_min_static_landmarks));
+                           ((tracker_.justEntered() && !clear_split) ||
+                            static_count < options_.auto_min_static_landmarks));
     if (want_imu) {
       imu_dominated_ = true;
       // The state before the evidence run: the reference frame of its first frame.

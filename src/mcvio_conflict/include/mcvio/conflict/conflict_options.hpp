@@ -67,6 +67,9 @@ struct ConflictOptions {
   bool use_frontend_labels = true;
   /// Auto: selective needs this many landmarks left that agree with the IMU.
   int auto_min_static_landmarks = 15;
+  /// Auto: an interval that opens with at least this share of landmarks disagreeing while
+  /// `auto_min_static_landmarks` still agree is a clear split and goes selective.
+  double auto_split_fraction = 0.3;
   /// IMU-dominated: at the start of an interval go back to the state before the first evidence
   /// and propagate it with the IMU, so vision seen during the detection delay is undone.
   bool rewind_on_entry = true;
