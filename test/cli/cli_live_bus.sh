@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# `mcvio demo` publishes; topics, echo and nodes in other processes must see it as ROS 2 tools would.
+# `mcvio bus-demo` publishes; topics, echo and nodes in other processes must see it as ROS 2 tools would.
 set -u
 mcvio=$1
 export ROS_DOMAIN_ID=$((150 + RANDOM % 80))
 tmp=$(mktemp -d)
-"$mcvio" demo --duration 20 > "$tmp/demo.txt" 2>&1 &
+"$mcvio" bus-demo --duration 20 > "$tmp/demo.txt" 2>&1 &
 demo=$!
 trap 'kill -TERM $demo 2>/dev/null; wait $demo 2>/dev/null; rm -rf "$tmp"' EXIT
 failed=0
