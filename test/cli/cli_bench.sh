@@ -60,9 +60,12 @@ expect() {  # expect PATTERN -- command...: exit 2 and PATTERN in the output
 expect "must include 'reference'" -- "$mcvio" bench --quick --modes imu,auto --out "$tmp/x"
 expect "tornado" -- "$mcvio" bench --quick --scenarios none,tornado --out "$tmp/x"
 expect "sweep_scenarios" -- "$mcvio" bench --quick --duration-sweep 0,10 --sweep-scenarios pedestrian --out "$tmp/x"
+expect "nothing to run" -- "$mcvio" bench --scenarios "" --no-sweep --out "$tmp/x"
+expect "need --level images" -- "$mcvio" bench --quick --real "$tmp" --out "$tmp/x"
 help=$("$mcvio" bench --help)
 for o in --out --level --modes --scenarios --seeds --duration-sweep --no-sweep --sweep-scenarios --sequence-duration \
-         --onset --conflict-duration --sweep-tail --rpe-delta-s --jobs --quick --oracle-track-labels --no-plots Examples; do
+         --onset --conflict-duration --sweep-tail --rpe-delta-s --jobs --quick --oracle-track-labels --no-plots --semi-real \
+         --real --overlay-onset --overlay-duration --config Examples; do
   grep -qF -- "$o" <<<"$help" || fail "--help lacks $o"
 done
 exit "$failed"

@@ -48,7 +48,6 @@ void BenchmarkOptions::validate() const {
   require(std::find(modes.begin(), modes.end(), "reference") != modes.end(),
           "modes: must include 'reference', the baseline every reduction and cost is measured against");
   require(!hasDuplicates(modes), "modes: a mode is listed twice");
-  require(!scenarios.empty() || !sweep_durations_s.empty(), "scenarios: nothing to run (no scenarios and no sweep)");
   for (const auto* list : {&scenarios, &sweep_scenarios}) {
     for (const auto& s : *list) {
       try {

@@ -34,6 +34,12 @@ std::string fmt(const char* format, double v) {
   return buf;
 }
 
+/// Compact but never exponential: 1542, 80.54, 0.749, 0.018.
+std::string figure(double v) {
+  const double a = std::abs(v);
+  return fmt(a >= 100 ? "%.0f" : a >= 1 ? "%.2f" : "%.3f", v);
+}
+
 std::string join(const std::vector<std::string>& v, const char* sep = ", ") {
   std::string s;
   for (const auto& x : v) s += (s.empty() ? "" : sep) + x;
@@ -100,7 +106,7 @@ void writeBarChart(const std::string& path, const std::string& title, const std:
   for (double t : ticks) {
     if (t > ymax) continue;
     cv::line(img, {left, yPix(t)}, {W - right, yPix(t)}, {225, 225, 225}, 1);
-    cv::putText(img, fmt("%g", t), {10, yPix(t) + 5}, font, 0.45, {40, 40, 40}, 1, cv::LINE_AA);
+    cv::putText(img, fmt("%g", t == 0 ? 0.0 : t), {10, yPix(t) + 5}, font, 0.45, {40, 40, 40}, 1, cv::LINE_AA);
   }
   cv::line(img, {left, top}, {left, top + plot_h}, {40, 40, 40}, 1);
   cv::line(img, {left, top + plot_h}, {W - right, top + plot_h}, {40, 40, 40}, 1);
@@ -232,12 +238,13 @@ std::string BenchmarkReportWriter::toMarkdown(const BenchmarkResult& result) {
   for (double d : o.sweep_durations_s) sweep.push_back(fmt("%g", d));
   md << "# MC-VIO benchmark (" << (result.level == "images" ? "image" : "feature") << " level)\n\n";
   if (result.level == "images")
-    md << "Rendered stereo images (mcvio_sim) -> the whole offline pipeline (frontend + estimator) per mode.";
+    md << "Rendered stereo images (mcvio_sim; overlay_semi_real: rendered along a recorded trajectory with its real IMU, "
+          "overlay injected) and recorded sequences (real_*) -> the whole offline pipeline (frontend + estimator) per mode.";
   else
     md << "FeatureSimulator tracks (pixel noise " << fmt("%g", o.features.pixel_noise_sigma) << " px, track labels "
        << (o.oracle_track_labels ? "from the ground truth (oracle)" : "cleared: no oracle") << ") -> SlidingWindowEstimator"
        << " per mode.";
-  md << " Scenarios: " << join(o.scenarios) << "; seeds " << join(seeds) << "; " << fmt("%g", o.sequence_duration_s)
+  md << " Scenarios: " << (o.scenarios.empty() ? std::string("(none)") : join(o.scenarios)) << "; seeds " << join(seeds) << "; " << fmt("%g", o.sequence_duration_s)
      << " s sequences, conflict " << fmt("%g", o.conflict_duration_s) << " s from " << fmt("%g", o.onset_s) << " s. Modes: "
      << join(o.modes) << ".";
   if (!o.sweep_durations_s.empty())
@@ -249,7 +256,7 @@ std::string BenchmarkReportWriter::toMarkdown(const BenchmarkResult& result) {
 
   md << "## Targets\n\n| Target | Mode | Runs passing | Worst | Worst sequence | Result |\n|---|---|---|---|---|---|\n";
   for (const auto& t : result.targets)
-    md << "| " << t.target << " | " << t.mode << " | " << t.passed << "/" << t.total << " | " << fmt("%.3g", t.worst)
+    md << "| " << t.target << " | " << t.mode << " | " << t.passed << "/" << t.total << " | " << figure(t.worst)
        << " | " << t.worst_sequence << " | " << (t.pass() ? "pass" : "FAIL") << " |\n";
   md << "\n";
 

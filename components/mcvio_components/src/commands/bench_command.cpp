@@ -24,7 +24,7 @@ void addBenchCommand(CLI::App& app, CommandContext&) {
   struct Options {
     std::string out, level = "features", config, semi_real;
     double overlay_onset_s = 5.0, overlay_duration_s = 4.0;
-    std::vector<std::string> modes, scenarios, sweep_scenarios;
+    std::vector<std::string> modes, scenarios, sweep_scenarios, real;
     std::vector<std::uint64_t> seeds;
     std::vector<double> sweep;
     bool no_sweep = false;
@@ -54,7 +54,8 @@ void addBenchCommand(CLI::App& app, CommandContext&) {
       "offline pipeline per mode (`mcvio run`, OUT/images/runs/<sequence>/<mode>); it skips the duration\n"
       "sweep unless --duration-sweep is given, and with --semi-real adds the injected-overlay experiment:\n"
       "the office rendered along that EuRoC folder's ground truth with its real IMU, and `mcvio inject\n"
-      "--scenario overlay` on top (sequence overlay_semi_real).\n"
+      "--scenario overlay` on top (sequence overlay_semi_real); --real adds recorded EuRoC folders as\n"
+      "clean sequences.\n"
       "Examples:\n"
       "  mcvio bench --out /tmp/bench                          the whole suite (tens of minutes)\n"
       "  mcvio bench --out /tmp/bench --jobs 2                 two sequences at a time\n"
@@ -62,7 +63,8 @@ void addBenchCommand(CLI::App& app, CommandContext&) {
       "  mcvio bench --out /tmp/b --scenarios elevator,vehicle --modes reference,imu --seeds 1,2 --no-sweep\n"
       "  mcvio bench --out /tmp/b --scenarios none --duration-sweep 0,10,20,30,40 --sweep-scenarios elevator\n"
       "  mcvio bench --level images --out /tmp/bi --scenarios none,elevator --modes reference,auto \\\n"
-      "              --sequence-duration 30 --onset 10 --conflict-duration 8 --semi-real ../shared/data/euroc_V1_01_excerpt");
+      "              --sequence-duration 30 --onset 10 --conflict-duration 8 --semi-real ../shared/data/euroc_V1_01_excerpt \\\n"
+      "              --real ../shared/data/euroc_V1_01_excerpt");
   cmd->add_option("--out", opt->out, "report folder (created; bench.* and the figures in it are replaced)")->required();
   cmd->add_option("--level", opt->level,
                   "features: FeatureSimulator tracks straight into the estimator (fast: the whole suite in tens of\n"
@@ -72,6 +74,9 @@ void addBenchCommand(CLI::App& app, CommandContext&) {
   cmd->add_option("--semi-real", opt->semi_real,
                   "images level: EuRoC folder whose ground truth and IMU drive the injected-overlay sequence\n"
                   "(e.g. ../shared/data/euroc_V1_01_excerpt); without it the overlay experiment is not run");
+  cmd->add_option("--real", opt->real,
+                  "images level: a real EuRoC folder run as a clean sequence (repeatable), e.g.\n"
+                  "../shared/data/euroc_V1_01_excerpt; frames count as conflict-free unless it has conflict labels");
   cmd->add_option("--overlay-onset", opt->overlay_onset_s, "images level: overlay onset after the first frame [s]")
       ->capture_default_str();
   cmd->add_option("--overlay-duration", opt->overlay_duration_s, "images level: how long the overlay is seen [s]")
@@ -110,7 +115,11 @@ void addBenchCommand(CLI::App& app, CommandContext&) {
     ev::BenchmarkOptions o = opt->quick ? ev::BenchmarkOptions::quick() : ev::BenchmarkOptions{};
     auto given = [&](const char* name) { return cmd->get_option(name)->count() > 0; };
     if (given("--modes")) o.modes = opt->modes;
-    if (given("--scenarios")) o.scenarios = opt->scenarios;
+    if (given("--scenarios")) {  // --scenarios '' runs no simulator scenario (e.g. only --real)
+      o.scenarios.clear();
+      for (const auto& sc : opt->scenarios)
+        if (!sc.empty()) o.scenarios.push_back(sc);
+    }
     if (given("--seeds")) o.seeds = opt->seeds;
     if (given("--duration-sweep")) o.sweep_durations_s = opt->sweep;
     else if (opt->level == "images") o.sweep_durations_s.clear();
@@ -126,7 +135,11 @@ void addBenchCommand(CLI::App& app, CommandContext&) {
     const ev::BenchmarkSuite suite(o);  // validates: std::invalid_argument -> exit 2 naming the option
 
     spdlog::set_level(opt->verbose ? spdlog::level::info : spdlog::level::err);
-    const std::size_t sequences = suite.plan().size() + (opt->level == "images" && !opt->semi_real.empty() ? 1 : 0);
+    const std::size_t sequences =
+        suite.plan().size() + (opt->level == "images" ? (opt->semi_real.empty() ? 0 : 1) + opt->real.size() : 0);
+    if (opt->level != "images" && (!opt->semi_real.empty() || !opt->real.empty()))
+      throw CommandExit{2, "bench: --semi-real and --real need --level images"};
+    if (sequences == 0) throw CommandExit{2, "bench: nothing to run (no scenarios, no sweep, no recorded sequences)"};
     if (!opt->quiet)
       std::cerr << "mcvio bench (" << (opt->level == "images" ? "image" : "feature") << " level): " << sequences << " sequences x " << o.modes.size()
                 << " modes = " << sequences * o.modes.size() << " runs"
@@ -144,6 +157,7 @@ void addBenchCommand(CLI::App& app, CommandContext&) {
       io.semi_real_dir = opt->semi_real;
       io.overlay_onset_s = opt->overlay_onset_s;
       io.overlay_duration_s = opt->overlay_duration_s;
+      io.real_dirs = opt->real;
       result = ImageLevelBenchmark(io).run(progress);
     } else {
       result = suite.run(progress);

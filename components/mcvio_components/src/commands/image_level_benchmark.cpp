@@ -1,5 +1,6 @@
 #include "commands/image_level_benchmark.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <mutex>
@@ -68,6 +69,9 @@ ev::BenchmarkModeRun runMode(const std::string& dataset, const std::string& out,
 ImageLevelBenchmark::ImageLevelBenchmark(Options options) : options_(std::move(options)) {
   options_.suite.validate();
   if (options_.work_dir.empty()) throw std::invalid_argument("work_dir: empty");
+  for (const auto& dir : options_.real_dirs)
+    if (!fs::is_regular_file(mav0Of(dir) / "state_groundtruth_estimate0/data.csv"))
+      throw InputError(dir + ": no mav0/state_groundtruth_estimate0/data.csv (a real sequence needs its ground truth)");
   if (!options_.semi_real_dir.empty()) {
     const fs::path m = mav0Of(options_.semi_real_dir);
     for (const char* f : {"state_groundtruth_estimate0/data.csv", "imu0/data.csv"})
@@ -88,6 +92,17 @@ ev::BenchmarkResult ImageLevelBenchmark::run(const ev::BenchmarkSuite::Progress&
     s.conflict_duration_s = options_.overlay_duration_s;
     plan.push_back(s);
   }
+  for (const auto& dir : options_.real_dirs) {
+    ev::BenchmarkSequence s;
+    s.scenario = "none";
+    fs::path p = fs::absolute(fs::path(dir)).lexically_normal();
+    if (p.filename().empty()) p = p.parent_path();  // "dir/" names its last component
+    if (p.filename() == "mav0") p = p.parent_path();
+    s.name = "real_" + p.filename().string();
+    s.seed = 0;
+    plan.push_back(s);
+  }
+  const std::size_t real_begin = plan.size() - options_.real_dirs.size();
   const std::size_t total = plan.size() * so.modes.size();
   std::size_t done = 0;
   auto report = [&](const std::string& line) {
@@ -98,14 +113,18 @@ ev::BenchmarkResult ImageLevelBenchmark::run(const ev::BenchmarkSuite::Progress&
   ev::BenchmarkResult result;
   result.level = "images";
   result.options = so;
-  for (auto& sequence : plan) {
-    const fs::path data = fs::path(options_.work_dir) / "data" / sequence.name;
+  for (std::size_t index = 0; index < plan.size(); ++index) {
+    auto& sequence = plan[index];
+    const bool real = index >= real_begin;
+    const fs::path data = real ? fs::path(options_.real_dirs[index - real_begin]) : fs::path(options_.work_dir) / "data" / sequence.name;
     const auto t_render = Clock::now();
     sim::SimulatorOptions sim;
     sim.output_dir = data.string();
     sim.overwrite = true;
     sim.seed = sequence.seed;
-    if (sequence.scenario == "injected_overlay") {
+    if (real) {
+      // Recorded: nothing to render.
+    } else if (sequence.scenario == "injected_overlay") {
       // Render the office along the recorded ground truth with the real IMU, then inject the overlay.
       const fs::path m = mav0Of(options_.semi_real_dir);
       sim.groundtruth_csv = (m / "state_groundtruth_estimate0/data.csv").string();
@@ -132,18 +151,29 @@ ev::BenchmarkResult ImageLevelBenchmark::run(const ev::BenchmarkSuite::Progress&
     const double render_s = secondsSince(t_render);
 
     const ev::Trajectory ground_truth = ev::loadEurocGroundTruth(data.string());
-    const ev::ConflictLabelTimeline labels = ev::ConflictLabelTimeline::load(data.string());
-    if (sequence.scenario == "injected_overlay")
-      sequence.duration_s = ground_truth.durationSeconds();
+    if (sequence.scenario == "injected_overlay" || real) sequence.duration_s = ground_truth.durationSeconds();
     std::vector<ev::BenchmarkModeRun> runs;
     for (const auto& mode : so.modes) {
       const fs::path out = fs::path(options_.work_dir) / "runs" / sequence.name / mode;
       runs.push_back(runMode(data.string(), out.string(), mode, options_.pipeline_config));
       const auto& r = runs.back();
       char buf[160];
-      std::snprintf(buf, sizeof buf, ": %zu/%zu frames tracked, %.1f s (rendered in %.0f s)", r.estimate.size(), r.frames,
-                    r.wall_s, render_s);
-      report(sequence.name + " " + mode + buf);
+      std::snprintf(buf, sizeof buf, ": %zu/%zu frames tracked, %.1f s", r.estimate.size(), r.frames, r.wall_s);
+      report(sequence.name + " " + mode + buf + (real ? std::string() : " (rendered in " + std::to_string(int(render_s)) + " s)"));
+    }
+    ev::ConflictLabelTimeline labels;
+    if (!real || fs::is_regular_file(mav0Of(data.string()) / "conflict_labels.csv")) {
+      labels = ev::ConflictLabelTimeline::load(data.string());
+    } else {
+      // A recorded sequence without labels: every estimated frame is conflict-free.
+      std::vector<Timestamp> times;
+      for (const auto& r : runs)
+        for (const auto& p : r.estimate.poses()) times.push_back(p.t);
+      std::sort(times.begin(), times.end());
+      times.erase(std::unique(times.begin(), times.end()), times.end());
+      std::vector<dataset::ConflictLabel> clean;
+      for (Timestamp t : times) clean.push_back({t, false, "none", 0.0});
+      labels = ev::ConflictLabelTimeline(std::move(clean), data.string() + " (no labels: all frames clean)");
     }
     ev::BenchmarkSequenceResult sr = ev::BenchmarkSuite::evaluateSequence(sequence, ground_truth, labels, runs, so);
     sr.simulate_s = render_s;

@@ -1,5 +1,6 @@
 #pragma once
 #include <string>
+#include <vector>
 
 #include "mcvio/evaluation/benchmark_result.hpp"
 #include "mcvio/evaluation/benchmark_suite.hpp"
@@ -12,7 +13,8 @@ namespace mcvio::cli {
 /// and BenchmarkSuite::evaluateSequence measures the runs as at feature level. With a semi-real
 /// source, an extra sequence is rendered along its recorded ground truth with its real IMU and
 /// the injected-overlay experiment (`mcvio inject --scenario overlay`) is added on top of it.
-/// Rendering takes about a minute per minute of sequence, so this is for a few sequences.
+/// Real EuRoC folders can be added as clean sequences. Rendering takes about a minute per minute
+/// of sequence, so this is for a few sequences.
 class ImageLevelBenchmark {
  public:
   struct Options {
@@ -23,6 +25,9 @@ class ImageLevelBenchmark {
     std::string semi_real_dir;
     double overlay_onset_s = 5.0;     ///< after the first frame of the semi-real sequence
     double overlay_duration_s = 4.0;
+    /// Real EuRoC folders run as clean sequences (scenario "none"): every frame is labelled
+    /// conflict-free unless the folder has mav0/conflict_labels.csv.
+    std::vector<std::string> real_dirs;
   };
 
   explicit ImageLevelBenchmark(Options options);

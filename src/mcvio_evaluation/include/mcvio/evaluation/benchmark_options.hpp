@@ -29,7 +29,8 @@ struct BenchmarkTargets {
 struct BenchmarkOptions {
   /// Resolution modes; must contain "reference", the baseline of every comparison.
   std::vector<std::string> modes = {"reference", "imu", "selective", "auto"};
-  /// Scenario names as sim::scenarioKindFromString accepts them.
+  /// Scenario names as sim::scenarioKindFromString accepts them; may be empty (only the sweep, or
+  /// only the recorded sequences of an image-level run).
   std::vector<std::string> scenarios = {"none", "elevator", "vehicle", "self_occlusion", "pedestrian", "slow_object"};
   std::vector<std::uint64_t> seeds = {1};
   double sequence_duration_s = 60.0;  ///< length of each scenario sequence
