@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# `mcvio demo` as a new user runs it, shortened to one 12 s sequence: it renders, runs the DDS
+# components with a recorder, runs the reference offline, evaluates, prints the table and leaves
+# the report, plots, bag and trajectories; a rerun with --keep reuses the rendering; bad options
+# are refused with a message naming them. About a minute here.
+set -u
+mcvio=$1
+export ROS_DOMAIN_ID=$((150 + RANDOM % 80))
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+failed=0
+check() {  # name, command...
+  local name=$1
+  shift
+  if "$@"; then echo "ok   $name"; else echo "FAIL $name"; failed=1; fi
+}
+out="$tmp/demo"
+
+"$mcvio" demo --only elevator --duration 12 --keep --out "$out" > "$tmp/run1.txt" 2>&1
+rc=$?
+cat "$tmp/run1.txt"
+check "demo exits 0" test "$rc" -eq 0
+check "prints the table row" grep -qE '^\| elevator \| [0-9]+ \| [0-9.]+ \| [0-9.]+ \|' "$tmp/run1.txt"
+check "prints the report path" grep -qF "$out/elevator/report/eval.md" "$tmp/run1.txt"
+for f in report/eval.json report/eval.md report/trajectory_top.png report/error_over_time.png report/roc.png \
+         bag/metadata.yaml mcvio/trajectory.tum mcvio/conflict.csv reference/trajectory.tum reference/conflict.csv; do
+  check "wrote $f" test -s "$out/elevator/$f"
+done
+check "conflict.csv has the columns of mcvio run" \
+  test "$(head -1 "$out/elevator/mcvio/conflict.csv")" = "$(head -1 "$out/elevator/reference/conflict.csv")"
+poses=$(grep -vc '^#' "$out/elevator/mcvio/trajectory.tum")
+rows=$(($(wc -l < "$out/elevator/mcvio/conflict.csv") - 1))
+check "one conflict row per DDS pose ($rows, $poses)" test "$rows" -eq "$poses" -a "$poses" -gt 100
+check "the bag holds every pose" bash -c "'$mcvio' bag info '$out/elevator/bag' | grep -qE 'Topic: /mcvio/odometry \\| .*\\| Count: $poses( |\$)'"
+
+"$mcvio" demo --only elevator --duration 12 --keep --out "$out" > "$tmp/run2.txt" 2>&1
+rc=$?
+check "second run exits 0" test "$rc" -eq 0
+check "second run reuses the rendering" grep -qF "reusing the rendering" "$tmp/run2.txt"
+
+"$mcvio" demo --mode reference --out "$tmp/bad" > "$tmp/bad1.txt" 2>&1
+check "--mode reference is refused" test $? -ne 0
+check "the refusal names --mode" grep -qF -- "--mode" "$tmp/bad1.txt"
+"$mcvio" demo --quick --duration 20 --out "$tmp/bad" > "$tmp/bad2.txt" 2>&1
+check "--quick with --duration is refused (exit 2)" test $? -eq 2
+"$mcvio" demo --duration 5 --out "$tmp/bad" > "$tmp/bad3.txt" 2>&1
+check "--duration 5 is refused" test $? -ne 0
+check "the refusal names --duration" grep -qF -- "--duration" "$tmp/bad3.txt"
+"$mcvio" bus-demo --help > "$tmp/busdemo.txt" 2>&1
+check "the bus demo is still there as bus-demo" grep -qF "bus-demo" "$tmp/busdemo.txt"
+exit $failed
