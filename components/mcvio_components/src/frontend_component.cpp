@@ -1,5 +1,8 @@
 #include "mcvio/components/frontend_component.hpp"
 
+#include <algorithm>
+#include <chrono>
+
 #include <iostream>
 
 #include "mcvio/components/ros_conversions.hpp"
@@ -43,7 +46,9 @@ struct FrontendComponent::Impl {
   std::condition_variable cv;
   std::map<Timestamp, cv::Mat> left, right;  // waiting for their partner
   std::deque<frontend::StereoInput> queue;
-  std::vector<ImuSample> imu;  // since the last queued pair
+  std::vector<ImuSample> imu;  // not yet handed to the tracker
+  Timestamp last_imu_t = 0;
+  bool have_imu = false;
   FrontendComponentStats stats;
   std::atomic<bool> running{true};
   std::thread worker;
@@ -82,6 +87,9 @@ struct FrontendComponent::Impl {
     s.accel = {m.linear_acceleration().x(), m.linear_acceleration().y(), m.linear_acceleration().z()};
     std::lock_guard<std::mutex> lock(mutex);
     imu.push_back(s);  // the tracker ignores non-finite or old samples and counts them
+    if (!have_imu || s.t > last_imu_t) last_imu_t = s.t;
+    have_imu = true;
+    cv.notify_one();
   }
 
   void onImage(const Image& m, int camera) {
@@ -106,15 +114,11 @@ struct FrontendComponent::Impl {
       for (auto it = other.begin(); it != partner;) { ++stats.unpaired_images; it = other.erase(it); }
       other.erase(partner);
       for (auto it = mine.begin(); it != mine.end() && it->first < t;) { ++stats.unpaired_images; it = mine.erase(it); }
-      in.imu.swap(imu);
       ++stats.pairs_received;
       if (!options.lossless && queue.size() >= options.max_queued_pairs) {
         ++stats.pairs_dropped;
         std::cerr << "mcvio frontend: tracker behind, dropping the pair at " << queue.front().t << "\n";
-        // Keep its IMU for the next pair so the gyro prediction stays continuous.
-        auto dropped_imu = std::move(queue.front().imu);
-        queue.pop_front();
-        if (!queue.empty()) queue.front().imu.insert(queue.front().imu.begin(), dropped_imu.begin(), dropped_imu.end());
+        queue.pop_front();  // its IMU stays in the buffer for the next pair
       }
       queue.push_back(std::move(in));
       cv.notify_one();
@@ -134,8 +138,19 @@ struct FrontendComponent::Impl {
         std::unique_lock<std::mutex> lock(mutex);
         cv.wait(lock, [this] { return !queue.empty() || !running; });
         if (queue.empty()) return;
+        // The tracker gets the IMU through the first sample at or after the frame time, as
+        // `mcvio run` hands it (the player publishes a frame before the IMU of the same instant).
+        // Lossless: wait for that sample, at most a second (the end of a stream).
+        const Timestamp t = queue.front().t;
+        if (options.lossless)
+          cv.wait_for(lock, std::chrono::seconds(1), [&] { return (have_imu && last_imu_t >= t) || !running; });
+        if (!running) return;
         in = std::move(queue.front());
         queue.pop_front();
+        auto split = std::find_if(imu.begin(), imu.end(), [&](const ImuSample& s) { return s.t >= in.t; });
+        if (split != imu.end()) ++split;
+        in.imu.assign(imu.begin(), split);
+        imu.erase(imu.begin(), split);
       }
       const auto result = tracker.track(in);
       std::lock_guard<std::mutex> lock(mutex);

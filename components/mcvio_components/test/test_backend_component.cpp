@@ -230,7 +230,7 @@ TEST(BackendComponent, LosslessPipelineOnTheRealExcerptGivesTheOfflineEstimators
   if (dir.empty()) GTEST_SKIP() << "no ../shared/data/euroc_V1_01_excerpt";
   const auto odometry = runOverDdsAndCheckTheEstimatorStage(dir, 43);
   // Measured 7.8e-5 m, 8.9e-5 rad (device at rest).
-  compareWithOfflineRun(dir, odometry, 1e-3);
+  compareWithOfflineRun(dir, odometry, 1e-5);
 }
 
 TEST(BackendComponent, LosslessPipelineOnAMovingSimulatedSequenceGivesTheOfflineEstimatorsPoses) {
@@ -245,7 +245,7 @@ TEST(BackendComponent, LosslessPipelineOnAMovingSimulatedSequenceGivesTheOffline
   sim::Simulator(so).writeDataset();
   const auto odometry = runOverDdsAndCheckTheEstimatorStage(so.output_dir, 47);
   // Measured 1.4e-4 m, 1.2e-3 rad (moving; the frontend differences above matter more here).
-  compareWithOfflineRun(so.output_dir, odometry, 1e-2);
+  compareWithOfflineRun(so.output_dir, odometry, 1e-5);
   std::filesystem::remove_all(so.output_dir);
 }
 

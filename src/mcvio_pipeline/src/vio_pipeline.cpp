@@ -23,15 +23,21 @@ VioPipelineOptions VioPipelineOptions::fromYamlFile(const std::string& path) {
       o.frontend = frontend::FrontendOptions::fromYaml(kv.second, path + ": frontend");
     } else if (key == "estimator") {
       o.estimator = estimator::EstimatorOptions::fromYaml(kv.second, path + ": estimator");
+    } else if (key == "frontend_gyro_bias_feedback") {
+      try {
+        o.frontend_gyro_bias_feedback = kv.second.as<bool>();
+      } catch (const YAML::Exception&) {
+        throw InputError(path + ": key 'frontend_gyro_bias_feedback' must be true or false");
+      }
     } else {
-      throw InputError(path + ": unknown section '" + key + "' (expected frontend, estimator)");
+      throw InputError(path + ": unknown section '" + key + "' (expected frontend, estimator, frontend_gyro_bias_feedback)");
     }
   }
   return o;
 }
 
 VioPipeline::VioPipeline(const StereoRigCalibration& rig, const VioPipelineOptions& options)
-    : tracker_(options.frontend), estimator_(options.estimator, rig) {
+    : tracker_(options.frontend), estimator_(options.estimator, rig), bias_feedback_(options.frontend_gyro_bias_feedback) {
   tracker_.setCalibration(rig);
 }
 
@@ -86,7 +92,7 @@ frontend::TrackingResult VioPipeline::track(Timestamp t, const cv::Mat& left, co
     if (it == bias_after_.end()) throw std::logic_error("VioPipeline: gyro bias of frame " + std::to_string(index - 2) + " is gone");
     bias = it->second;
   }
-  tracker_.setGyroBias(bias);
+  tracker_.setGyroBias(bias_feedback_ ? bias : Eigen::Vector3d::Zero());
   frontend::StereoInput in;
   in.t = t;
   in.left = left;

@@ -21,6 +21,11 @@ namespace mcvio::pipeline {
 struct VioPipelineOptions {
   frontend::FrontendOptions frontend;
   estimator::EstimatorOptions estimator;
+  /// Track frame k with the gyro bias the estimator had after frame k-2 (key
+  /// `frontend_gyro_bias_feedback`). Off by default: the DDS frontend has no bias topic, and the
+  /// DDS and offline paths must see the same input; the bias moves the KLT prediction by well
+  /// under a pixel per frame.
+  bool frontend_gyro_bias_feedback = false;
   static VioPipelineOptions fromYamlFile(const std::string& path);
 };
 
@@ -79,6 +84,7 @@ class VioPipeline {
   std::size_t next_track_index_ = 0;  ///< frontend side
   std::size_t estimated_frames_ = 0;  ///< estimator side; guarded by mutex_ for the frontend's reads
   Eigen::Vector3d gyro_bias_ = Eigen::Vector3d::Zero();  ///< estimator side: latest tracking estimate
+  bool bias_feedback_ = false;
   /// (frame index, gyro bias after that frame), the last few, for the frontend.
   std::deque<std::pair<std::size_t, Eigen::Vector3d>> bias_after_;
   bool cancelled_ = false;
