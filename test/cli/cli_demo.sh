@@ -2,7 +2,8 @@
 # `mcvio demo` as a new user runs it, shortened to one 12 s sequence: it renders, runs the DDS
 # components with a recorder, runs the reference offline, evaluates, prints the table and leaves
 # the report, plots, bag and trajectories; a rerun with --keep reuses the rendering; bad options
-# are refused with a message naming them. About a minute here.
+# and a domain where the demo's topics are already published are refused with a message naming
+# them. About a minute here.
 set -u
 mcvio=$1
 export ROS_DOMAIN_ID=$((150 + RANDOM % 80))
@@ -46,6 +47,15 @@ check "--quick with --duration is refused (exit 2)" test $? -eq 2
 "$mcvio" demo --duration 5 --out "$tmp/bad" > "$tmp/bad3.txt" 2>&1
 check "--duration 5 is refused" test $? -ne 0
 check "the refusal names --duration" grep -qF -- "--duration" "$tmp/bad3.txt"
-"$mcvio" bus-demo --help > "$tmp/busdemo.txt" 2>&1
-check "the bus demo is still there as bus-demo" grep -qF "bus-demo" "$tmp/busdemo.txt"
+
+# Another publisher of the demo's topics on the domain: refused, not mixed in.
+"$mcvio" bus-demo --duration 30 > "$tmp/busdemo.txt" 2>&1 &
+bus=$!
+for _ in $(seq 1 10); do timeout -s KILL 30 "$mcvio" topics --wait 1 2>/dev/null | grep -qF "/imu0" && break; done
+"$mcvio" demo --only elevator --duration 12 --out "$tmp/mixed" > "$tmp/mixed.txt" 2>&1
+check "a busy domain is refused" test $? -ne 0
+check "the refusal names the topic and --domain" grep -qE "already has a publisher of /.*--domain" "$tmp/mixed.txt"
+kill -TERM $bus 2>/dev/null
+wait $bus
+check "the bus demo still runs as bus-demo" grep -qF "Delivered" "$tmp/busdemo.txt"
 exit $failed

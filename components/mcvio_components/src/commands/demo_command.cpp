@@ -103,10 +103,12 @@ void addPipelineDemoCommand(CLI::App& app, CommandContext& ctx) {
       "  4. evaluates both against ground truth and the conflict labels (`mcvio eval`) and prints\n"
       "     ATE, RPE, the reduction and the detector's TPR/FPR, with the paths of reports, plots, bags.\n"
       "Output per sequence SEQ in --out: SEQ/data (rendered), SEQ/bag, SEQ/mcvio, SEQ/reference,\n"
-      "SEQ/report. While it runs, other shells on the same domain see the topics (`mcvio topics`).\n"
+      "SEQ/report. Steps and the table go to stdout, the components' logs to stderr. It uses the DDS\n"
+      "domain of --domain (default $ROS_DOMAIN_ID or 0) and refuses to start if the demo's topics are\n"
+      "already published there; while it runs, other shells on that domain see them (`mcvio topics`).\n"
       "Examples:\n"
       "  mcvio demo\n"
-      "  mcvio demo --quick --out /tmp/demo_quick          16 s sequences, about two minutes\n"
+      "  mcvio demo --quick --out /tmp/demo_quick          16 s sequences, about 1.5 minutes here\n"
       "  mcvio demo --mode selective --duration 40 --keep  rerun later without rendering again");
   cmd->add_option("--out", opt->pipeline.out_dir, "output folder (created; the demo's own subfolders in it are replaced), "
                                                   "e.g. --out /tmp/my_demo")

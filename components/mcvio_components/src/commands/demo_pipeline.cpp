@@ -380,10 +380,33 @@ void DemoPipeline::evaluate(const Sequence& s, SequenceResult& r) const {
   }
 }
 
+void DemoPipeline::checkDomainIsFree() const {
+  dds::GraphMonitor monitor;
+  auto participant = dds::Participant::create(named(options_.participant, "mcvio_demo_check"), &monitor);
+  const std::vector<std::string> ours = {"/imu0", "/cam0/image_raw", "/cam1/image_raw", "/mcvio/features", "/mcvio/odometry"};
+  std::string taken;
+  // Discovery of the participants already there takes a moment; 3 s finds them under load.
+  monitor.waitFor([&](const std::vector<dds::DiscoveredTopic>& topics) {
+    for (const auto& t : topics) {
+      if (t.publishers > 0 && std::find(ours.begin(), ours.end(), t.name) != ours.end()) {
+        taken = t.name;
+        return true;
+      }
+    }
+    return false;
+  }, std::chrono::milliseconds(3000));
+  if (!taken.empty()) {
+    throw std::runtime_error("DDS domain " + std::to_string(options_.participant.domain_id) + " already has a publisher of " +
+                             taken + " (another player, demo or VIO?); its messages would mix into the demo's. Stop it "
+                             "or give the demo a domain of its own, e.g. mcvio --domain 42 demo");
+  }
+}
+
 std::vector<DemoPipeline::SequenceResult> DemoPipeline::run() const {
   std::vector<Sequence> sequences;
   for (const auto& name : options_.scenarios) sequences.push_back(plan(name));
   fs::create_directories(options_.out_dir);
+  checkDomainIsFree();
   const int steps = static_cast<int>(sequences.size()) * 4;
   int step = 0;
   const auto stepLine = [&](const std::string& what) {

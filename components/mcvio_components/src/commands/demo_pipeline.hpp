@@ -63,6 +63,9 @@ class DemoPipeline {
 
  private:
   struct Sequence;
+  /// Throws std::runtime_error if another process already publishes the demo's input or output
+  /// topics on the domain (they would mix into the run).
+  void checkDomainIsFree() const;
   Sequence plan(const std::string& scenario) const;
   bool render(const Sequence& s) const;
   void runOverDds(const Sequence& s, SequenceResult& r) const;
