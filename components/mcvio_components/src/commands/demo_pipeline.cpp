@@ -49,6 +49,12 @@ dds::ParticipantOptions named(dds::ParticipantOptions o, const std::string& name
   return o;
 }
 
+// Ctrl-C: the long library calls (rendering, the offline run) stop at the exception thrown from
+// their callbacks.
+void throwIfInterrupted(const std::string& during) {
+  if (dds::ShutdownSignal::requested()) throw std::runtime_error("interrupted during " + during);
+}
+
 double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // t in seconds with all nine decimals, as `mcvio run` writes it.
@@ -183,6 +189,7 @@ bool DemoPipeline::render(const Sequence& s) const {
   sim::Simulator simulator(s.sim);
   ProgressBar bar("render " + s.name, simulator.frameTimes().size(), isatty(2));
   simulator.writeDataset([&](std::size_t done, std::size_t total) {
+    throwIfInterrupted("rendering");
     bar.update(done, std::to_string(done) + "/" + std::to_string(total) + " stereo frames");
   });
   bar.finish();
@@ -340,6 +347,7 @@ void DemoPipeline::runReference(const Sequence& s) const {
   o.output_dir = s.reference_dir.string();
   o.mode = "reference";
   o.progress = isatty(2);
+  o.on_frame = [](std::size_t, const pipeline::VioFrameResult&) { throwIfInterrupted("the reference run"); };
   fs::remove_all(s.reference_dir);
   fs::create_directories(s.reference_dir);
   const auto summary = pipeline::runOffline(o);
