@@ -119,10 +119,7 @@ struct BackendComponent::Impl {
   }
 
   void onImu(const Imu& m) {
-    ImuSample s;
-    s.t = stampOf(m.header());
-    s.gyro = {m.angular_velocity().x(), m.angular_velocity().y(), m.angular_velocity().z()};
-    s.accel = {m.linear_acceleration().x(), m.linear_acceleration().y(), m.linear_acceleration().z()};
+    const ImuSample s = fromImuMsg(m);
     std::lock_guard<std::mutex> lock(mutex);
     ++stats.imu_received;
     const char* why = nullptr;

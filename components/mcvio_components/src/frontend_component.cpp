@@ -81,10 +81,7 @@ struct FrontendComponent::Impl {
   }
 
   void onImu(const Imu& m) {
-    ImuSample s;
-    s.t = stampOf(m.header());
-    s.gyro = {m.angular_velocity().x(), m.angular_velocity().y(), m.angular_velocity().z()};
-    s.accel = {m.linear_acceleration().x(), m.linear_acceleration().y(), m.linear_acceleration().z()};
+    const ImuSample s = fromImuMsg(m);
     std::lock_guard<std::mutex> lock(mutex);
     imu.push_back(s);  // the tracker ignores non-finite or old samples and counts them
     if (!have_imu || s.t > last_imu_t) last_imu_t = s.t;

@@ -40,6 +40,14 @@ sensor_msgs::msg::dds_::Image_ toImageMsg(const cv::Mat& image, Timestamp t, con
   return msg;
 }
 
+ImuSample fromImuMsg(const sensor_msgs::msg::dds_::Imu_& m) {
+  ImuSample s;
+  s.t = stampOf(m.header());
+  s.gyro = {m.angular_velocity().x(), m.angular_velocity().y(), m.angular_velocity().z()};
+  s.accel = {m.linear_acceleration().x(), m.linear_acceleration().y(), m.linear_acceleration().z()};
+  return s;
+}
+
 sensor_msgs::msg::dds_::Imu_ toImuMsg(const ImuSample& s, const std::string& frame_id) {
   sensor_msgs::msg::dds_::Imu_ msg;
   msg.header(makeHeader(s.t, frame_id));

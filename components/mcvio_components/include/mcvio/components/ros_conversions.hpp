@@ -22,6 +22,8 @@ Timestamp stampOf(const std_msgs::msg::dds_::Header_& header);
 /// mono8 image; throws std::invalid_argument for a cv::Mat that is not CV_8UC1.
 sensor_msgs::msg::dds_::Image_ toImageMsg(const cv::Mat& image, Timestamp t, const std::string& frame_id);
 sensor_msgs::msg::dds_::Imu_ toImuMsg(const ImuSample& sample, const std::string& frame_id);
+/// The inverse: stamp, angular velocity and linear acceleration (values as received, unchecked).
+ImuSample fromImuMsg(const sensor_msgs::msg::dds_::Imu_& msg);
 /// plumb_bob for radial-tangential, "equidistant" for equidistant; R identity, P = [K | 0].
 sensor_msgs::msg::dds_::CameraInfo_ toCameraInfoMsg(const CameraCalibration& calibration, Timestamp t);
 /// Pose of the body in `world`, twist in the body frame (child_frame_id), as REP-105 says.
