@@ -68,9 +68,6 @@ void ConflictOptions::validate() const {
   require(rewind_frames >= 0 && rewind_frames <= 400, "rewind_frames", "must be in [0, 400]", rewind_frames);
   require(auto_split_fraction > 0 && auto_split_fraction <= 1, "auto_split_fraction", "must be in (0, 1]",
           auto_split_fraction);
-  require(auto_probation_frames >= 1, "auto_probation_frames", "must be >= 1", auto_probation_frames);
-  require(auto_probation_static_fraction > 0 && auto_probation_static_fraction <= 1, "auto_probation_static_fraction",
-          "must be in (0, 1]", auto_probation_static_fraction);
   require(selective_strikes >= 1, "selective_strikes", "must be >= 1", selective_strikes);
   require(auto_min_static_landmarks >= 0, "auto_min_static_landmarks", "must be >= 0", auto_min_static_landmarks);
 }
@@ -116,8 +113,6 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("use_frontend_labels", &o.use_frontend_labels);
   read("auto_min_static_landmarks", &o.auto_min_static_landmarks);
   read("auto_split_fraction", &o.auto_split_fraction);
-  read("auto_probation_frames", &o.auto_probation_frames);
-  read("auto_probation_static_fraction", &o.auto_probation_static_fraction);
   read("rewind_on_entry", &o.rewind_on_entry);
   read("rewind_frames", &o.rewind_frames);
   read("keep_consistent_rotation", &o.keep_consistent_rotation);

@@ -1,6 +1,5 @@
 #include "mcvio/estimator/motion_conflict_monitor.hpp"
 
-#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 
@@ -52,8 +51,6 @@ void MotionConflictMonitor::reset() {
   imu_dominated_ = false;
   have_reference_bias_ = false;
   frames_since_reset_ = 0;
-  auto_static_run_ = 0;
-  auto_selective_locked_ = false;
   tracker_.reset();
   classifier_.clear();
   secondary_.end();
@@ -187,12 +184,11 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   const int H = options_.horizon_frames;
   bool evidence = false, whole = false, rotation_agrees = false;
   int static_count = 0;
-  std::vector<conflict::LandmarkConflictDetector::Verdict> verdicts, inertial_verdicts;
+  std::vector<conflict::LandmarkConflictDetector::Verdict> verdicts;
   const bool selective_active = mode == conflict::ResolutionMode::kSelective || mode == conflict::ResolutionMode::kAuto;
   if (static_cast<int>(history_.size()) >= H) {
     const std::size_t r_index = history_.size() - static_cast<std::size_t>(H);
     Entry r = history_[r_index];
-    const Entry& r_inertial = history_[r_index];
     // Inside an IMU-dominated interval the inertial velocity has drifted from what vision sees;
     // whether the conflict goes on is a question of acceleration, so take r's velocity from vision.
     if (imu_dominated_) {
@@ -246,21 +242,6 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
       if (lm.tested >= options_.min_landmarks_tested && lm.fraction >= options_.whole_view_fraction) whole = true;
       evidence = (whole || partial) && frames_since_reset_ >= options_.warmup_frames;
       verdicts = lm.verdicts;
-      // Auto on probation: an IMU-dominated interval whose view keeps a large group that agrees
-      // with the *inertial* motion was a moving object in a static world, not a moving cabin.
-      if (imu_dominated_ && mode == conflict::ResolutionMode::kAuto) {
-        conflict::RelativeMotion imu_inertial;
-        State ignored;
-        if (imuMotion(r_inertial, t, imu, &imu_inertial, &ignored)) {
-          const auto li = landmark_detector_.test(pts, imu_inertial);
-          const int agree = li.tested - li.inconsistent;
-          const bool static_group = li.tested >= options_.min_landmarks_tested &&
-                                    agree >= std::max(options_.auto_min_static_landmarks,
-                                                      static_cast<int>(options_.auto_probation_static_fraction * li.tested));
-          auto_static_run_ = static_group ? auto_static_run_ + 1 : 0;
-          if (auto_static_run_ >= options_.auto_probation_frames) inertial_verdicts = li.verdicts;
-        }
-      }
     }
   }
   pending_.evidence = evidence;
@@ -281,17 +262,6 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
                                                                                     : ConflictReport::State::kNone;
   d.report.interval_start = tracker_.intervalStart();
 
-  if (!inertial_verdicts.empty() && tracker_.inConflict()) {
-    imu_dominated_ = false;
-    auto_selective_locked_ = true;
-    auto_static_run_ = 0;
-    secondary_.end();
-    classifier_.clear();
-    for (const auto& v : inertial_verdicts)
-      for (int i = 0; i < options_.selective_strikes && v.inconsistent; ++i)
-        if (classifier_.addVerdict(v.track_id, true)) d.eliminate.push_back(v.track_id);
-  }
-  if (tracker_.justExited()) auto_selective_locked_ = false;
   if (tracker_.justExited() && imu_dominated_) {
     imu_dominated_ = false;
     secondary_.end();
@@ -309,7 +279,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     const bool clear_split = d.report.inconsistent_fraction >= options_.auto_split_fraction &&
                              static_count >= options_.auto_min_static_landmarks;
     const bool want_imu = mode == conflict::ResolutionMode::kImu ||
-                          (mode == conflict::ResolutionMode::kAuto && whole && !auto_selective_locked_ &&
+                          (mode == conflict::ResolutionMode::kAuto && whole &&
                            ((tracker_.justEntered() && !clear_split) ||
                             static_count < options_.auto_min_static_landmarks));
     if (want_imu) {

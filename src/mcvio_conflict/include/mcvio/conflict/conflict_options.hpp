@@ -70,12 +70,6 @@ struct ConflictOptions {
   /// Auto: an interval that opens with at least this share of landmarks disagreeing while
   /// `auto_min_static_landmarks` still agree is a clear split and goes selective.
   double auto_split_fraction = 0.3;
-  /// Auto: an IMU-dominated interval whose view keeps such a static group (landmarks agreeing
-  /// with the inertial motion) for this many frames turns selective: a moving object, not a cabin.
-  int auto_probation_frames = 20;
-  /// ... when at least this share of the tested landmarks agrees with the inertial motion (a
-  /// vehicle's windows onto a static street are a minority and stay IMU-dominated).
-  double auto_probation_static_fraction = 0.75;
   /// IMU-dominated: at the start of an interval go back to the state before the first evidence
   /// and propagate it with the IMU, so vision seen during the detection delay is undone.
   bool rewind_on_entry = true;

@@ -121,8 +121,6 @@ class MotionConflictMonitor {
   ImuBias reference_bias_;
   bool have_reference_bias_ = false;
   int frames_since_reset_ = 0;
-  int auto_static_run_ = 0;            ///< auto: frames an IMU-dominated view kept a static group
-  bool auto_selective_locked_ = false;  ///< auto: this interval turned selective, stay so
 };
 
 }  // namespace mcvio::estimator
