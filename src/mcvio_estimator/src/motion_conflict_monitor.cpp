@@ -1,7 +1,5 @@
 #include "mcvio/estimator/motion_conflict_monitor.hpp"
 
-#include <cstdio>
-#include <cstdlib>
 
 #include <Eigen/Dense>
 
@@ -220,15 +218,6 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
         const Eigen::Matrix3d S_rot = imu_rel.covariance.block<3, 3>(0, 0) + vis.motion.covariance.block<3, 3>(0, 0);
         const Eigen::Vector3d e_rot = prop.error.head<3>();
         rotation_agrees = e_rot.dot(S_rot.ldlt().solve(e_rot)) < options_.rotation_chi2_threshold;
-        if (std::getenv("MCVIO_CONFLICT_DEBUG") && prop.chi2 > 10)
-          std::fprintf(stderr, "dbg t=%.2f chi2=%.1f err=[%.4f %.4f %.4f | %.4f %.4f %.4f] sd_imu=[%.4f %.4f %.4f | %.4f %.4f %.4f] sd_vis=[%.4f %.4f %.4f | %.4f %.4f %.4f] n=%d rms=%.2f\n",
-                       toSeconds(t), prop.chi2, prop.error[0], prop.error[1], prop.error[2], prop.error[3], prop.error[4],
-                       prop.error[5], std::sqrt(imu_rel.covariance(0, 0)), std::sqrt(imu_rel.covariance(1, 1)),
-                       std::sqrt(imu_rel.covariance(2, 2)), std::sqrt(imu_rel.covariance(3, 3)),
-                       std::sqrt(imu_rel.covariance(4, 4)), std::sqrt(imu_rel.covariance(5, 5)),
-                       std::sqrt(vis.motion.covariance(0, 0)), std::sqrt(vis.motion.covariance(1, 1)),
-                       std::sqrt(vis.motion.covariance(2, 2)), std::sqrt(vis.motion.covariance(3, 3)),
-                       std::sqrt(vis.motion.covariance(4, 4)), std::sqrt(vis.motion.covariance(5, 5)), vis.inliers, vis.rms_px);
         whole = prop.fired;
       }
       const auto lm = landmark_detector_.test(pts, imu_rel);

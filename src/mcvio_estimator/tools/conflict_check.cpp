@@ -1,7 +1,7 @@
 // Feature-level motion-conflict check: mcvio_sim's FeatureSimulator with a scenario -> estimator in
 // a resolution mode; prints ATE (pos+yaw), ATE inside labelled conflict, per-frame detection
 // TPR/FPR, the elevator's vertical displacement, and optionally a per-frame CSV.
-//   conflict_check SCENARIO MODE [duration_s] [seed] [csv]
+//   [MCVIO_ESTIMATOR_CONFIG=options.yaml] conflict_check SCENARIO MODE [duration_s] [seed] [csv|-] [onset_s] [conflict_s]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -61,8 +61,11 @@ int main(int argc, char** argv) {
   estimator::EstimatorOptions eo;
   eo.observation_sigma_px = fo.pixel_noise_sigma;
   eo.conflict.mode = conflict::resolutionModeFromString(argv[2]);
-  if (const char* cfg = std::getenv("MCVIO_ESTIMATOR_CONFIG")) eo = estimator::EstimatorOptions::fromYamlFile(cfg),
-                                                               eo.conflict.mode = conflict::resolutionModeFromString(argv[2]);
+  // Optional estimator options (e.g. conflict thresholds to try); the mode argument wins.
+  if (const char* cfg = std::getenv("MCVIO_ESTIMATOR_CONFIG")) {
+    eo = estimator::EstimatorOptions::fromYamlFile(cfg);
+    eo.conflict.mode = conflict::resolutionModeFromString(argv[2]);
+  }
   estimator::SlidingWindowEstimator est(eo, seq.calibration);
   std::ofstream csv;
   if (argc > 5 && std::string(argv[5]) != "-") csv.open(argv[5]);
