@@ -35,7 +35,9 @@ int main(int argc, char** argv) {
       "  mcvio sim --scenario elevator --out /tmp/elevator   render a sequence with a motion conflict\n"
       "  mcvio play /tmp/elevator --rate 2  publish a EuRoC folder on the bus\n"
       "  mcvio record -o /tmp/run --all     record the bus to a rosbag2 bag (MCAP)\n"
-      "  mcvio run --dataset DIR --out OUT  the whole VIO offline: trajectory.tum, stats.json\n"
+      "  mcvio frontend --calib DIR         stereo tracking on the bus: /mcvio/features\n"
+      "  mcvio backend --calib DIR --mode auto   the estimator on the bus: /mcvio/odometry, /tf, /mcvio/conflict\n"
+      "  mcvio run --dataset DIR --out OUT --mode auto   the whole VIO offline: trajectory.tum, conflict.csv, stats.json\n"
       "  mcvio eval --gt DIR --est OUT --out REPORT   ATE/RPE, detection ROC, plots against ground truth\n"
       "  mcvio bench --out DIR             the MC-VIO benchmark suite: every scenario and mode, one report",
       "mcvio"};
