@@ -62,6 +62,8 @@ void ConflictOptions::validate() const {
   require(warmup_frames >= 0, "warmup_frames", "must be >= 0", warmup_frames);
   require(bias_reference_lag_frames >= 0 && bias_reference_lag_frames <= 400, "bias_reference_lag_frames",
           "must be in [0, 400]", bias_reference_lag_frames);
+  require(bias_reference_max_change_sigmas > 0, "bias_reference_max_change_sigmas", "must be > 0",
+          bias_reference_max_change_sigmas);
   require(enter_frames >= 1, "enter_frames", "must be >= 1", enter_frames);
   require(exit_frames >= 1, "exit_frames", "must be >= 1", exit_frames);
   require(rotation_chi2_threshold > 0, "rotation_chi2_threshold", "must be > 0", rotation_chi2_threshold);
@@ -107,6 +109,7 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("whole_view_fraction", &o.whole_view_fraction);
   read("warmup_frames", &o.warmup_frames);
   read("bias_reference_lag_frames", &o.bias_reference_lag_frames);
+  read("bias_reference_max_change_sigmas", &o.bias_reference_max_change_sigmas);
   read("enter_frames", &o.enter_frames);
   read("exit_frames", &o.exit_frames);
   read("selective_strikes", &o.selective_strikes);

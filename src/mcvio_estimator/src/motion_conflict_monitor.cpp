@@ -327,6 +327,17 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   return d;
 }
 
+bool MotionConflictMonitor::biasSettled(std::size_t i) const {
+  const ImuBias& b = history_[i].state.bias;
+  const double max_a = options_.bias_reference_max_change_sigmas * options_.accel_bias_sigma;
+  const double max_g = options_.bias_reference_max_change_sigmas * options_.gyro_bias_sigma;
+  for (std::size_t j = i + 1; j < history_.size(); ++j) {
+    const ImuBias& c = history_[j].state.bias;
+    if ((c.accel - b.accel).norm() > max_a || (c.gyro - b.gyro).norm() > max_g) return false;
+  }
+  return true;
+}
+
 void MotionConflictMonitor::commit(const State& solved, ConflictReport* report) {
   if (!have_pending_) return;
   pending_.state = solved;
@@ -346,7 +357,8 @@ void MotionConflictMonitor::commit(const State& solved, ConflictReport* report) 
   const std::size_t lag = static_cast<std::size_t>(options_.bias_reference_lag_frames);
   // Only biases estimated after the warm-up count: the first estimates are still settling.
   if (tracker_.state() != conflict::ConflictIntervalTracker::State::kConflict &&
-      frames_since_reset_ > options_.warmup_frames + static_cast<int>(lag) && history_.size() > lag) {
+      frames_since_reset_ > options_.warmup_frames + static_cast<int>(lag) && history_.size() > lag &&
+      biasSettled(history_.size() - 1 - lag)) {
     reference_bias_ = history_[history_.size() - 1 - lag].state.bias;
     have_reference_bias_ = true;
   }

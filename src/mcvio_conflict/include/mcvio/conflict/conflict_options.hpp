@@ -57,6 +57,11 @@ struct ConflictOptions {
   /// frame: inside a conflict the estimator bends the accelerometer bias to explain the missing
   /// motion, and a prediction with that bias would agree with vision.
   int bias_reference_lag_frames = 40;
+  /// A bias estimate becomes the reference only once every later estimate (over the lag) stayed
+  /// within this many accel_bias_sigma / gyro_bias_sigma of it. Estimates that are still moving
+  /// (the first seconds of motion on a real IMU) would otherwise be frozen into the reference at
+  /// the next interval and keep it open.
+  double bias_reference_max_change_sigmas = 5.0;
   int enter_frames = 2;                ///< consecutive frames with evidence to open an interval
   int exit_frames = 10;                ///< consecutive clean frames to close it
 

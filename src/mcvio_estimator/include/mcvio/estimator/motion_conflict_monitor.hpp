@@ -98,6 +98,8 @@ class MotionConflictMonitor {
                  State* propagated) const;
   /// Vision-only world velocity at history index i (average over the `span` frames before it).
   bool visionVelocity(std::size_t i, std::size_t span, Eigen::Vector3d* v) const;
+  /// Every bias estimated after history_[i] stayed close to it (bias_reference_max_change_sigmas).
+  bool biasSettled(std::size_t i) const;
   ImuBias referenceBias(const Entry& r) const { return have_reference_bias_ ? reference_bias_ : r.state.bias; }
 
   conflict::ConflictOptions options_;
