@@ -143,7 +143,8 @@ int main(int argc, char** argv) {
     Sequence s;
     s.name = "rendered_none_" + secs.str() + "s";
     s.dataset_dir = data + "/" + s.name;
-    s.description = "none seed 1 duration " + secs.str();
+    s.description = "none seed 1 duration " + secs.str() + " png level " +
+                    std::to_string(pipeline::sequences::renderedNone(seconds, 1).png_compression);
     s.render = [dir = s.dataset_dir, seconds] {
       auto o = pipeline::sequences::renderedNone(seconds, 1);
       o.output_dir = dir;
@@ -156,7 +157,8 @@ int main(int argc, char** argv) {
     Sequence s;
     s.name = "semi_real_v101_" + secs.str() + "s";
     s.dataset_dir = data + "/" + s.name;
-    s.description = "semi-real V1_01 first " + secs.str() + " s from " + excerpt;
+    s.description = "semi-real V1_01 first " + secs.str() + " s from " + excerpt + " png level " +
+                    std::to_string(sim::SimulatorOptions{}.png_compression);
     s.render = [dir = s.dataset_dir, excerpt, seconds, data] {
       auto o = pipeline::sequences::semiRealV101(excerpt, data + "/semi_real_csv", seconds);
       o.output_dir = dir;

@@ -41,7 +41,7 @@ struct InjectOptions {
   std::uint64_t seed = 1;         ///< texture
   std::string motion_name = "injected_image";
   int threads = 2;
-  int png_compression = 1;
+  int png_compression = 0;  ///< zlib level of the written PNGs; 0 as EuRoC (fastest to decode)
 
   static InjectOptions fromYaml(const YAML::Node& node);
   static InjectOptions fromYamlFile(const std::string& path);

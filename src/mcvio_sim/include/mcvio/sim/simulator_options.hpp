@@ -23,7 +23,7 @@ namespace mcvio::sim {
 ///   duration_s: 60
 ///   scenario: {kind: elevator, onset_s: 20, duration_s: 15, coverage: 1.0, travel_m: 12}
 ///   imu: {noise: true, gyroscope_noise_density: 1.6968e-4, initial_gyro_bias: [0, 0, 0]}
-///   image: {noise_sigma: 2.0, gain_drift: 0.15, png_compression: 1}
+///   image: {noise_sigma: 2.0, gain_drift: 0.15, png_compression: 0}
 ///   semi_real: {groundtruth_csv: .../data.csv, imu_csv: .../data.csv}
 ///   calibration_dir: /data/V1_01_easy/mav0
 struct SimulatorOptions {
@@ -49,7 +49,9 @@ struct SimulatorOptions {
   double pixel_noise_sigma = 2.0;  ///< additive image noise [grey levels]
   double gain_drift = 0.15;        ///< relative amplitude of the slow exposure/gain change
   double gain_period_s = 23.0;     ///< period of that change [s]
-  int png_compression = 1;         ///< zlib level of the written PNGs (lossless at any level)
+  /// zlib level of the written PNGs (lossless at any level). 0 stores them as EuRoC does: noisy
+  /// images hardly compress (227 instead of 362 KB at level 1) but decode 2x slower (5 vs 2.3 ms).
+  int png_compression = 0;
 
   /// Semi-real mode when both are set: render along this EuRoC ground truth
   /// (state_groundtruth_estimate0/data.csv) and keep this real IMU (imu0/data.csv); elevator and
