@@ -179,7 +179,7 @@ std::vector<Pose> runOverDdsAndCheckTheEstimatorStage(const std::string& dir, in
   // The estimator stage on its own, offline: the same feature frames, with the data set's IMU up to
   // each frame's time first. The backend must give exactly these poses.
   const auto rig = dataset::EurocFileReader::readCalibration(dir);
-  estimator::SlidingWindowEstimator reference(estimator::EstimatorOptions{}, rig);
+  estimator::SlidingWindowEstimator reference(components::BackendComponentOptions{}.estimator, rig);
   std::vector<Pose> expected;
   std::size_t next_imu = 0;
   for (const auto& f : features) {

@@ -374,7 +374,8 @@ OfflineRunSummary runOffline(const OfflineInput& data, const OfflineRunOptions& 
   if (data.frame_times.empty()) throw InputError(options.dataset_dir + ": no stereo frames to run on");
   if (data.imu.empty()) throw InputError(options.dataset_dir + ": no IMU samples");
   if (!data.images) throw InputError(options.dataset_dir + ": no image source");
-  auto vio_options = options.config_file.empty() ? VioPipelineOptions{} : VioPipelineOptions::fromYamlFile(options.config_file);
+  auto vio_options =
+      options.config_file.empty() ? VioPipelineOptions::shipped() : VioPipelineOptions::fromYamlFile(options.config_file);
   if (!options.mode.empty())
     vio_options.estimator.conflict.mode = conflict::resolutionModeFromString(options.mode, "mcvio run --mode");
   fs::create_directories(options.output_dir);

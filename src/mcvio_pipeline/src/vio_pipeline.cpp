@@ -6,8 +6,36 @@
 #include <yaml-cpp/yaml.h>
 
 #include "mcvio/core/input_error.hpp"
+#include "shipped_config.hpp"
 
 namespace mcvio::pipeline {
+
+namespace {
+
+VioPipelineOptions fromYaml(const YAML::Node& root, const std::string& where) {
+  VioPipelineOptions o;
+  if (root.IsNull()) return o;
+  if (!root.IsMap()) throw InputError(where + ": expected a map with frontend: and estimator: sections");
+  for (const auto& kv : root) {
+    const auto key = kv.first.as<std::string>();
+    if (key == "frontend") {
+      o.frontend = frontend::FrontendOptions::fromYaml(kv.second, where + ": frontend");
+    } else if (key == "estimator") {
+      o.estimator = estimator::EstimatorOptions::fromYaml(kv.second, where + ": estimator");
+    } else if (key == "frontend_gyro_bias_feedback") {
+      try {
+        o.frontend_gyro_bias_feedback = kv.second.as<bool>();
+      } catch (const YAML::Exception&) {
+        throw InputError(where + ": key 'frontend_gyro_bias_feedback' must be true or false");
+      }
+    } else {
+      throw InputError(where + ": unknown section '" + key + "' (expected frontend, estimator, frontend_gyro_bias_feedback)");
+    }
+  }
+  return o;
+}
+
+}  // namespace
 
 VioPipelineOptions VioPipelineOptions::fromYamlFile(const std::string& path) {
   YAML::Node root;
@@ -16,24 +44,13 @@ VioPipelineOptions VioPipelineOptions::fromYamlFile(const std::string& path) {
   } catch (const YAML::Exception& e) {
     throw InputError(path + ": " + e.what());
   }
-  VioPipelineOptions o;
-  for (const auto& kv : root) {
-    const auto key = kv.first.as<std::string>();
-    if (key == "frontend") {
-      o.frontend = frontend::FrontendOptions::fromYaml(kv.second, path + ": frontend");
-    } else if (key == "estimator") {
-      o.estimator = estimator::EstimatorOptions::fromYaml(kv.second, path + ": estimator");
-    } else if (key == "frontend_gyro_bias_feedback") {
-      try {
-        o.frontend_gyro_bias_feedback = kv.second.as<bool>();
-      } catch (const YAML::Exception&) {
-        throw InputError(path + ": key 'frontend_gyro_bias_feedback' must be true or false");
-      }
-    } else {
-      throw InputError(path + ": unknown section '" + key + "' (expected frontend, estimator, frontend_gyro_bias_feedback)");
-    }
-  }
-  return o;
+  return fromYaml(root, path);
+}
+
+VioPipelineOptions VioPipelineOptions::shipped() {
+  // Parsed once: the text is compiled in and cannot change.
+  static const VioPipelineOptions options = fromYaml(YAML::Load(kShippedConfigYaml), "built-in config/vio_pipeline.yaml");
+  return options;
 }
 
 VioPipeline::VioPipeline(const StereoRigCalibration& rig, const VioPipelineOptions& options)

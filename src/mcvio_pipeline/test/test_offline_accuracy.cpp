@@ -21,8 +21,11 @@ namespace {
 // The issue's bound for 60 s clean sequences, after position + yaw alignment.
 constexpr double kMaxAteM = 0.05;
 
+// A clean sequence may show a motion conflict in at most this share of its frames (issue 6).
+constexpr double kMaxConflictFraction = 0.02;
+
 pipeline::sequences::RunAccuracy runAndEvaluate(const sim::Simulator& simulator, const std::string& name,
-                                                pipeline::OfflineRunSummary* summary) {
+                                                pipeline::OfflineRunSummary* summary, std::size_t* conflict_frames) {
   const std::string out = ::testing::TempDir() + "/accuracy_" + name + "_" + std::to_string(getpid());
   pipeline::OfflineRunOptions o;
   o.dataset_dir = name;
@@ -30,13 +33,18 @@ pipeline::sequences::RunAccuracy runAndEvaluate(const sim::Simulator& simulator,
   o.progress = false;
   o.config_file = MCVIO_PIPELINE_CONFIG;  // the shipped, measured configuration
   CovarianceLog covariances;
-  o.on_frame = [&](std::size_t, const pipeline::VioFrameResult& r) { covariances.add(r); };
+  *conflict_frames = 0;
+  o.on_frame = [&](std::size_t, const pipeline::VioFrameResult& r) {
+    covariances.add(r);
+    if (r.estimated && r.estimate.conflict.state == estimator::ConflictReport::State::kConflict) ++*conflict_frames;
+  };
   *summary = pipeline::runOffline(pipeline::sequences::renderedInput(simulator), o);
   const auto a = pipeline::sequences::evaluateRun(out + "/trajectory.tum", simulator.groundTruth(), covariances);
   std::cout << name << ": " << summary->frames << " frames, " << a.poses << " poses, " << summary->resets
             << " resets, ATE pos+yaw " << a.ate_pos_yaw_rmse << " m (max " << a.ate_pos_yaw_max << "), ATE SE3 "
             << a.ate_se3_rmse << " m, RPE 1 s " << a.rpe_1s_translation_rmse << " m / " << a.rpe_1s_rotation_rmse_deg
-            << " deg, position NEES " << a.position_nees << " over " << a.nees_frames << " frames\n";
+            << " deg, position NEES " << a.position_nees << " over " << a.nees_frames << " frames, motion conflict in "
+            << *conflict_frames << " frames\n";
   ::testing::Test::RecordProperty("ate_pos_yaw_m", std::to_string(a.ate_pos_yaw_rmse));
   ::testing::Test::RecordProperty("position_nees", std::to_string(a.position_nees));
   std::filesystem::remove_all(out);
@@ -48,14 +56,16 @@ pipeline::sequences::RunAccuracy runAndEvaluate(const sim::Simulator& simulator,
 TEST(OfflineAccuracy, RenderedOffice60sNoneScenario) {
   const sim::Simulator simulator(pipeline::sequences::renderedNone(60.0, 1));
   pipeline::OfflineRunSummary s;
-  const auto a = runAndEvaluate(simulator, "rendered_none_60s", &s);
+  std::size_t conflict_frames = 0;
+  const auto a = runAndEvaluate(simulator, "rendered_none_60s", &s, &conflict_frames);
+  EXPECT_LE(static_cast<double>(conflict_frames), kMaxConflictFraction * static_cast<double>(s.frames));
   EXPECT_EQ(s.frames, simulator.frameTimes().size());
   EXPECT_EQ(s.resets, 0u);
   EXPECT_EQ(s.skipped, 0u);
   // Initialisation waits for 1 s of IMU; everything after it must be tracked.
   EXPECT_GE(a.poses + 25, s.frames);
   EXPECT_LE(a.ate_pos_yaw_rmse, kMaxAteM);
-  // Consistent covariance: position NEES near its expectation 3 (measured 2.4-2.6). Not checked on
+  // Consistent covariance: position NEES near its expectation 3 (measured 1.95 with the shipped IMU noise inflation x6). Not checked on
   // the semi-real sequence, where it is ~60 (see README.md).
   EXPECT_GE(a.nees_frames + 25, s.frames);
   EXPECT_GT(a.position_nees, 1.5);
@@ -69,7 +79,11 @@ TEST(OfflineAccuracy, SemiRealV101First60s) {
   const sim::Simulator simulator(pipeline::sequences::semiRealV101(excerpt, work, 60.0));
   std::filesystem::remove_all(work);
   pipeline::OfflineRunSummary s;
-  const auto a = runAndEvaluate(simulator, "semi_real_v101_60s", &s);
+  std::size_t conflict_frames = 0;
+  const auto a = runAndEvaluate(simulator, "semi_real_v101_60s", &s, &conflict_frames);
+  // The real IMU's takeoff once froze a still-moving bias estimate into the detector's reference
+  // and kept a false conflict open for 90 % of the run.
+  EXPECT_LE(static_cast<double>(conflict_frames), kMaxConflictFraction * static_cast<double>(s.frames));
   EXPECT_EQ(s.frames, simulator.frameTimes().size());
   EXPECT_EQ(s.resets, 0u);
   EXPECT_EQ(s.skipped, 0u);

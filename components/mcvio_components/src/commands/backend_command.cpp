@@ -38,7 +38,7 @@ void addBackendCommand(CLI::App& app, CommandContext& ctx) {
       ->required();
   cmd->add_option("--config", opt->config,
                   "YAML with `estimator:` options (a `frontend:` section is allowed and ignored here), the same file "
-                  "as `mcvio run --config`, e.g. --config my_vio.yaml (default: built-in defaults)");
+                  "as `mcvio run --config`, e.g. --config my_vio.yaml (default: the shipped config/vio_pipeline.yaml, built in)");
   cmd->add_option("--mode", opt->mode,
                   "motion-conflict handling: reference (detect and report only), imu (IMU-dominated), selective "
                   "(drop the moving landmarks) or auto; overrides the config file, e.g. --mode selective "

@@ -81,7 +81,7 @@ void addBenchCommand(CLI::App& app, CommandContext&) {
       ->capture_default_str();
   cmd->add_option("--overlay-duration", opt->overlay_duration_s, "images level: how long the overlay is seen [s]")
       ->capture_default_str();
-  cmd->add_option("--config", opt->config, "images level: VioPipelineOptions YAML for `mcvio run` (default: built-in)");
+  cmd->add_option("--config", opt->config, "images level: VioPipelineOptions YAML for `mcvio run` (default: the shipped config/vio_pipeline.yaml, built in)");
   cmd->add_option("--modes", opt->modes, "resolution modes, comma separated; must include reference (default: all four)")
       ->delimiter(',');
   cmd->add_option("--scenarios", opt->scenarios,

@@ -237,8 +237,8 @@ void DemoPipeline::runOverDds(const Sequence& s, SequenceResult& r) const {
     secondary.push_back(o);
   });
 
-  // The offline reference run uses the pipeline defaults: so do the components, but for the mode.
-  const pipeline::VioPipelineOptions defaults;
+  // The offline reference run uses the shipped configuration: so do the components, but for the mode.
+  const pipeline::VioPipelineOptions defaults = pipeline::VioPipelineOptions::shipped();
   components::BackendComponentOptions bo;
   bo.estimator = defaults.estimator;
   bo.estimator.conflict.mode = conflict::resolutionModeFromString(options_.mode, "--mode");

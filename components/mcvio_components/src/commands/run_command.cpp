@@ -26,7 +26,9 @@ void addRunCommand(CLI::App& app, CommandContext&) {
   cmd->add_option("--calib", opt->calibration_dir,
                   "EuRoC folder whose sensor.yaml files give the stereo calibration (required for bags)");
   cmd->add_option("--out", opt->output_dir, "output folder (created)")->required();
-  cmd->add_option("--config", opt->config_file, "YAML with `frontend:` and `estimator:` option sections");
+  cmd->add_option("--config", opt->config_file,
+                  "YAML with `frontend:` and `estimator:` option sections; keys left out keep the built-in defaults\n"
+                  "(default: the shipped share/mcvio_pipeline/config/vio_pipeline.yaml, built in)");
   cmd->add_option("--mode", opt->mode,
                   "motion-conflict handling: reference (detect and report only), imu (IMU-dominated: drop the\n"
                   "conflicting visual residuals, hold the biases), selective (eliminate the landmarks that move),\n"

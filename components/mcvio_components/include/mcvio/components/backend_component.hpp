@@ -5,12 +5,14 @@
 
 #include "mcvio/dds/node.hpp"
 #include "mcvio/estimator/estimator_options.hpp"
+#include "mcvio/pipeline/vio_pipeline.hpp"
 
 namespace mcvio::components {
 
 /// Settings of the backend component (the estimator's own options are inside).
 struct BackendComponentOptions {
-  estimator::EstimatorOptions estimator;
+  /// Default: the shipped configuration, as `mcvio run` without --config.
+  estimator::EstimatorOptions estimator = pipeline::VioPipelineOptions::shipped().estimator;
   /// Stereo-inertial calibration (EuRoC sensor.yaml folder): extrinsics, focal length and IMU noise
   /// for the estimator, and the imu0 -> cam0/cam1 transforms on /tf_static. Required.
   std::string calibration_dir;

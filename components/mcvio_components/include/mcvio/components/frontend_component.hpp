@@ -12,12 +12,14 @@
 
 #include "mcvio/dds/node.hpp"
 #include "mcvio/frontend/feature_tracker.hpp"
+#include "mcvio/pipeline/vio_pipeline.hpp"
 
 namespace mcvio::components {
 
 /// Settings of the frontend component (the tracker's own options are inside).
 struct FrontendComponentOptions {
-  frontend::FrontendOptions tracker;
+  /// Default: the shipped configuration, as `mcvio run` without --config.
+  frontend::FrontendOptions tracker = pipeline::VioPipelineOptions::shipped().frontend;
   /// Stereo calibration (EuRoC sensor.yaml folder). camera_info carries intrinsics but not the
   /// stereo extrinsics, so without this the component reports "no calibration" and skips frames.
   std::string calibration_dir;

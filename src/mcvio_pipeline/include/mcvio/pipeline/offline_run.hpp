@@ -16,7 +16,7 @@ struct OfflineRunOptions {
   /// Stereo calibration (EuRoC sensor.yaml folder); required for bags, which carry no extrinsics.
   std::string calibration_dir;
   std::string output_dir;   ///< trajectory.tum, stats.json
-  std::string config_file;  ///< VioPipelineOptions YAML; empty = defaults
+  std::string config_file;  ///< VioPipelineOptions YAML; empty = VioPipelineOptions::shipped()
   /// Conflict resolution mode (reference, imu, selective, auto); empty keeps the config's
   /// `estimator.conflict.mode`.
   std::string mode;

@@ -27,6 +27,11 @@ struct VioPipelineOptions {
   /// under a pixel per frame.
   bool frontend_gyro_bias_feedback = false;
   static VioPipelineOptions fromYamlFile(const std::string& path);
+  /// The shipped configuration, config/vio_pipeline.yaml of this package, compiled in: the
+  /// built-in defaults with the settings measured best on EuRoC-like data (IMU noise inflation,
+  /// right camera only in anchor frames). What `mcvio run`, `mcvio backend` and `mcvio demo` use
+  /// without --config.
+  static VioPipelineOptions shipped();
 };
 
 /// What one stereo frame produced.
