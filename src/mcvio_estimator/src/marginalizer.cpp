@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <stdexcept>
-#include <unordered_map>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -24,18 +23,61 @@ Eigen::MatrixXd pseudoInverse(const Eigen::MatrixXd& A) {
   return es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose();
 }
 
+using CouplingBlock = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 15>;
+struct LandmarkTerms {
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3> h;
+  Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1> g;
+  std::vector<std::pair<int, CouplingBlock>> coupling;  // dense offset -> H_landmark,block
+};
+
+void addCoupling(LandmarkTerms& t, int off, const Eigen::Matrix<double, 3, 6>& c) {
+  for (auto& [o, m] : t.coupling)
+    if (o == off) {
+      m += c;
+      return;
+    }
+  t.coupling.emplace_back(off, c);
+}
+
 }  // namespace
 
+int Marginalizer::blockId(const double* data) const {
+  const auto it = block_ids_by_data_.find(data);
+  return it == block_ids_by_data_.end() ? -1 : it->second;
+}
+
+std::vector<char> Marginalizer::blockFlags(const std::set<const double*>& blocks) const {
+  std::vector<char> flags(blocks_.size(), 0);
+  for (const double* p : blocks) {
+    const int id = blockId(p);
+    if (id >= 0) flags[static_cast<std::size_t>(id)] = 1;
+  }
+  return flags;
+}
+
 void Marginalizer::addParameterBlock(double* data, BlockKind kind, int size) {
-  blocks_[data] = BlockInfo{data, kind, size, tangentSize(kind, size)};
+  const BlockInfo info{data, kind, size, tangentSize(kind, size)};
+  const auto [it, inserted] = block_ids_by_data_.emplace(data, static_cast<int>(blocks_.size()));
+  if (inserted)
+    blocks_.push_back(info);
+  else
+    blocks_[static_cast<std::size_t>(it->second)] = info;
 }
 
 void Marginalizer::addResidualBlock(const ceres::CostFunction* cost, const ceres::LossFunction* loss,
-                                    std::vector<double*> parameters) {
-  for (const double* p : parameters)
-    if (blocks_.count(p) == 0) throw std::logic_error("Marginalizer: residual uses an unregistered parameter block");
-  if (residuals_.capacity() == residuals_.size()) residuals_.reserve(2 * residuals_.size() + 64);
-  residuals_.push_back(Residual{cost, loss, std::move(parameters)});
+                                    double* const* parameters, int num_parameters) {
+  const int first = static_cast<int>(params_.size());
+  for (int i = 0; i < num_parameters; ++i) {
+    const int id = blockId(parameters[i]);
+    if (id < 0) {
+      params_.resize(static_cast<std::size_t>(first));
+      block_ids_.resize(static_cast<std::size_t>(first));
+      throw std::logic_error("Marginalizer: residual uses an unregistered parameter block");
+    }
+    params_.push_back(parameters[i]);
+    block_ids_.push_back(id);
+  }
+  residuals_.push_back(Residual{cost, loss, first, num_parameters});
 }
 
 bool Marginalizer::linearize(const Residual& res, Eigen::VectorXd* r, std::vector<Eigen::MatrixXd>* J) const {
@@ -51,10 +93,10 @@ bool Marginalizer::linearize(const Residual& res, Eigen::VectorXd* r, std::vecto
     Jg[i].resize(m, sizes[i]);
     jac_ptrs[i] = Jg[i].data();
   }
-  if (!res.cost->Evaluate(res.parameters.data(), r->data(), jac_ptrs.data())) return false;
+  if (!res.cost->Evaluate(&params_[static_cast<std::size_t>(res.first)], r->data(), jac_ptrs.data())) return false;
   if (J->size() != sizes.size()) J->resize(sizes.size());
   for (std::size_t i = 0; i < sizes.size(); ++i) {
-    const BlockInfo& b = blocks_.at(res.parameters[i]);
+    const BlockInfo& b = blocks_[static_cast<std::size_t>(block_ids_[static_cast<std::size_t>(res.first) + i])];
     Eigen::MatrixXd& Jt = (*J)[i];
     if (b.kind == BlockKind::kPose) {
       Jt.resize(m, 6);
@@ -77,56 +119,74 @@ bool Marginalizer::linearize(const Residual& res, Eigen::VectorXd* r, std::vecto
 
 void Marginalizer::reducedSystem(const std::vector<const double*>& order, const std::set<const double*>& drop,
                                  Eigen::MatrixXd* H, Eigen::VectorXd* g) const {
-  std::unordered_map<const double*, int> offset;
-  int dim = 0;
+  std::vector<int> ids;
+  ids.reserve(order.size());
   for (const double* p : order) {
-    offset[p] = dim;
-    dim += blocks_.at(p).tangent_size;
+    const int id = blockId(p);
+    if (id < 0) throw std::logic_error("Marginalizer: unregistered parameter block in the order");
+    ids.push_back(id);
+  }
+  reduce(ids, blockFlags(drop), H, g);
+}
+
+void Marginalizer::reduce(const std::vector<int>& order, const std::vector<char>& dropped, Eigen::MatrixXd* H,
+                          Eigen::VectorXd* g) const {
+  auto isDropped = [&](int id) { return dropped[static_cast<std::size_t>(id)] != 0; };
+  auto isEliminated = [&](int id) {
+    return isDropped(id) && blocks_[static_cast<std::size_t>(id)].kind == BlockKind::kLandmark;
+  };
+  std::vector<int> offset(blocks_.size(), -1);
+  int dim = 0;
+  for (const int id : order) {
+    offset[static_cast<std::size_t>(id)] = dim;
+    dim += blocks_[static_cast<std::size_t>(id)].tangent_size;
   }
   H->setZero(dim, dim);
   g->setZero(dim);
-
-  using CouplingBlock = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 15>;
-  struct LandmarkTerms {
-    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3> h;
-    Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1> g;
-    std::vector<std::pair<int, CouplingBlock>> coupling;  // dense offset -> H_landmark,block
+  auto offsetOf = [&](int id) {
+    const int o = offset[static_cast<std::size_t>(id)];
+    if (o < 0) throw std::logic_error("Marginalizer: a residual uses a block outside the order");
+    return o;
   };
+
   // Terms in first-use order, so the elimination (and its rounding) does not depend on addresses.
-  std::vector<LandmarkTerms> landmark_terms;
-  std::unordered_map<const double*, std::size_t> landmark_index;
-  landmark_index.reserve(residuals_.size());
-  auto termsOf = [&](const double* lm) -> LandmarkTerms& {
-    const auto [it, inserted] = landmark_index.emplace(lm, landmark_terms.size());
-    if (inserted) landmark_terms.emplace_back();
-    return landmark_terms[it->second];
+  // The storage is reused across calls: a covariance per frame must not allocate per landmark.
+  thread_local std::vector<LandmarkTerms> terms;
+  std::size_t n_terms = 0;
+  std::vector<int> slot(blocks_.size(), -1);
+  auto termsOf = [&](int id) -> LandmarkTerms& {
+    int& s = slot[static_cast<std::size_t>(id)];
+    if (s < 0) {
+      s = static_cast<int>(n_terms++);
+      if (terms.size() < n_terms) terms.emplace_back();
+      LandmarkTerms& t = terms[static_cast<std::size_t>(s)];
+      t.h.resize(0, 0);
+      t.g.resize(0);
+      t.coupling.clear();
+    }
+    return terms[static_cast<std::size_t>(s)];
   };
 
   Eigen::VectorXd r;
   std::vector<Eigen::MatrixXd> J;
   std::vector<int> offs;
-  auto coupling = [](LandmarkTerms& t, int off, const Eigen::Matrix<double, 3, 6>& c) {
-    for (auto& [o, m] : t.coupling)
-      if (o == off) {
-        m += c;
-        return;
-      }
-    t.coupling.emplace_back(off, c);
-  };
   for (const auto& res : residuals_) {
-    // Fast path with fixed sizes for the dominant visual residual: 2 rows over
+    double* const* params = &params_[static_cast<std::size_t>(res.first)];
+    const int* ids = &block_ids_[static_cast<std::size_t>(res.first)];
+    const bool two_rows = res.cost->num_residuals() == 2;
+    // Fixed-size fast path for the dominant visual residual: 2 rows over
     // [pose, pose, eliminated 3-dof landmark].
-    if (res.cost->num_residuals() == 2 && res.parameters.size() == 3 && drop.count(res.parameters[2]) != 0) {
-      const BlockInfo& b0 = blocks_.at(res.parameters[0]);
-      const BlockInfo& b1 = blocks_.at(res.parameters[1]);
-      const BlockInfo& b2 = blocks_.at(res.parameters[2]);
-      if (b0.kind == BlockKind::kPose && b1.kind == BlockKind::kPose && b2.kind == BlockKind::kLandmark &&
-          b2.size == 3 && drop.count(res.parameters[0]) == 0 && drop.count(res.parameters[1]) == 0) {
+    if (two_rows && res.count == 3 && isEliminated(ids[2])) {
+      const BlockInfo& b0 = blocks_[static_cast<std::size_t>(ids[0])];
+      const BlockInfo& b1 = blocks_[static_cast<std::size_t>(ids[1])];
+      const BlockInfo& b2 = blocks_[static_cast<std::size_t>(ids[2])];
+      if (b0.kind == BlockKind::kPose && b1.kind == BlockKind::kPose && b2.size == 3 && !isDropped(ids[0]) &&
+          !isDropped(ids[1])) {
         Eigen::Matrix<double, 2, 7, Eigen::RowMajor> G0, G1;
         Eigen::Matrix<double, 2, 3, Eigen::RowMajor> G2;
         Eigen::Vector2d rr;
         double* jp[3] = {G0.data(), G1.data(), G2.data()};
-        if (!res.cost->Evaluate(res.parameters.data(), rr.data(), jp) || !rr.allFinite())
+        if (!res.cost->Evaluate(params, rr.data(), jp) || !rr.allFinite())
           throw std::logic_error("Marginalizer: a residual block could not be evaluated");
         Eigen::Matrix<double, 2, 6> J0, J1;
         Eigen::Matrix<double, 2, 3> J2 = G2;
@@ -143,60 +203,85 @@ void Marginalizer::reducedSystem(const std::vector<const double*>& order, const 
           J1 *= sc;
           J2 *= sc;
         }
-        const int o0 = offset.at(res.parameters[0]), o1 = offset.at(res.parameters[1]);
+        const int o0 = offsetOf(ids[0]), o1 = offsetOf(ids[1]);
         H->block<6, 6>(o0, o0).noalias() += J0.transpose() * J0;
         H->block<6, 6>(o0, o1).noalias() += J0.transpose() * J1;
         H->block<6, 6>(o1, o0).noalias() += J1.transpose() * J0;
         H->block<6, 6>(o1, o1).noalias() += J1.transpose() * J1;
         g->segment<6>(o0).noalias() += J0.transpose() * rr;
         g->segment<6>(o1).noalias() += J1.transpose() * rr;
-        LandmarkTerms& t = termsOf(res.parameters[2]);
+        LandmarkTerms& t = termsOf(ids[2]);
         if (t.h.size() == 0) {
           t.h.setZero(3, 3);
           t.g.setZero(3);
         }
         t.h += J2.transpose() * J2;
         t.g += J2.transpose() * rr;
-        coupling(t, o0, J2.transpose() * J0);
-        coupling(t, o1, J2.transpose() * J1);
+        addCoupling(t, o0, J2.transpose() * J0);
+        addCoupling(t, o1, J2.transpose() * J1);
         continue;
       }
     }
+    // Fixed-size fast path for a landmark's observation in its anchor frame: 2 rows over the
+    // eliminated 3-dof landmark only.
+    if (two_rows && res.count == 1 && isEliminated(ids[0]) &&
+        blocks_[static_cast<std::size_t>(ids[0])].size == 3) {
+      Eigen::Matrix<double, 2, 3, Eigen::RowMajor> G;
+      Eigen::Vector2d rr;
+      double* jp[1] = {G.data()};
+      if (!res.cost->Evaluate(params, rr.data(), jp))
+        throw std::logic_error("Marginalizer: a residual block could not be evaluated");
+      Eigen::Matrix<double, 2, 3> Jl = G;
+      if (res.loss != nullptr) {
+        double rho[3];
+        res.loss->Evaluate(rr.squaredNorm(), rho);
+        const double sc = std::sqrt(std::max(rho[1], 0.0));
+        rr *= sc;
+        Jl *= sc;
+      }
+      if (!rr.allFinite()) throw std::logic_error("Marginalizer: a residual block could not be evaluated");
+      LandmarkTerms& t = termsOf(ids[0]);
+      if (t.h.size() == 0) {
+        t.h.setZero(3, 3);
+        t.g.setZero(3);
+      }
+      t.h += Jl.transpose() * Jl;
+      t.g += Jl.transpose() * rr;
+      continue;
+    }
     if (!linearize(res, &r, &J)) throw std::logic_error("Marginalizer: a residual block could not be evaluated");
-    const double* lm = nullptr;
-    std::size_t li = 0;
-    offs.assign(res.parameters.size(), -1);
-    for (std::size_t a = 0; a < res.parameters.size(); ++a) {
-      const double* p = res.parameters[a];
-      const BlockInfo& b = blocks_.at(p);
-      if (b.kind == BlockKind::kLandmark && drop.count(p) != 0) {
-        if (lm != nullptr) throw std::logic_error("Marginalizer: a residual touches two eliminated landmarks");
+    int li = -1;
+    offs.assign(static_cast<std::size_t>(res.count), -1);
+    for (int a = 0; a < res.count; ++a) {
+      const BlockInfo& b = blocks_[static_cast<std::size_t>(ids[a])];
+      if (isEliminated(ids[a])) {
+        if (li >= 0) throw std::logic_error("Marginalizer: a residual touches two eliminated landmarks");
         if (b.tangent_size > 3) throw std::logic_error("Marginalizer: landmark blocks have at most 3 dimensions");
-        lm = p;
         li = a;
       } else {
-        offs[a] = offset.at(p);
+        offs[static_cast<std::size_t>(a)] = offsetOf(ids[a]);
       }
     }
-    for (std::size_t a = 0; a < res.parameters.size(); ++a) {
+    for (std::size_t a = 0; a < offs.size(); ++a) {
       if (offs[a] < 0) continue;
       const auto na = J[a].cols();
       g->segment(offs[a], na).noalias() += J[a].transpose() * r;
-      for (std::size_t b = 0; b < res.parameters.size(); ++b) {
+      for (std::size_t b = 0; b < offs.size(); ++b) {
         if (offs[b] < 0) continue;
         H->block(offs[a], offs[b], na, J[b].cols()).noalias() += J[a].transpose() * J[b];
       }
     }
-    if (lm != nullptr) {
-      LandmarkTerms& t = termsOf(lm);
-      const auto k = J[li].cols();
+    if (li >= 0) {
+      LandmarkTerms& t = termsOf(ids[li]);
+      const Eigen::MatrixXd& Jl = J[static_cast<std::size_t>(li)];
+      const auto k = Jl.cols();
       if (t.h.size() == 0) {
         t.h.setZero(k, k);
         t.g.setZero(k);
       }
-      t.h.noalias() += J[li].transpose() * J[li];
-      t.g.noalias() += J[li].transpose() * r;
-      for (std::size_t a = 0; a < res.parameters.size(); ++a) {
+      t.h.noalias() += Jl.transpose() * Jl;
+      t.g.noalias() += Jl.transpose() * r;
+      for (std::size_t a = 0; a < offs.size(); ++a) {
         if (offs[a] < 0) continue;
         if (J[a].cols() > 15) throw std::logic_error("Marginalizer: block coupled to a landmark is too large");
         auto it = std::find_if(t.coupling.begin(), t.coupling.end(), [&](const auto& c) { return c.first == offs[a]; });
@@ -204,12 +289,13 @@ void Marginalizer::reducedSystem(const std::vector<const double*>& order, const 
           t.coupling.emplace_back(offs[a], CouplingBlock::Zero(k, J[a].cols()));
           it = t.coupling.end() - 1;
         }
-        it->second.noalias() += J[li].transpose() * J[a];
+        it->second.noalias() += Jl.transpose() * J[a];
       }
     }
   }
   // Exact Schur complement of each landmark (no residual couples two of them).
-  for (const auto& t : landmark_terms) {
+  for (std::size_t i = 0; i < n_terms; ++i) {
+    const LandmarkTerms& t = terms[i];
     const bool fixed = t.h.rows() == 3 && std::all_of(t.coupling.begin(), t.coupling.end(),
                                                        [](const auto& c) { return c.second.cols() == 6; });
     if (fixed) {
@@ -241,27 +327,27 @@ void Marginalizer::reducedSystem(const std::vector<const double*>& order, const 
 
 std::shared_ptr<MarginalizationPrior> Marginalizer::marginalize(const std::set<const double*>& drop) const {
   // Dense order: dropped non-landmark blocks first, then the kept ones (in first-use order).
-  std::vector<const double*> dropped, kept;
-  std::set<const double*> seen;
-  for (const auto& res : residuals_) {
-    for (const double* p : res.parameters) {
-      if (!seen.insert(p).second) continue;
-      const BlockInfo& b = blocks_.at(p);
-      if (drop.count(p) != 0) {
-        if (b.kind != BlockKind::kLandmark) dropped.push_back(p);
-      } else {
-        kept.push_back(p);
-      }
+  const std::vector<char> dropped_flag = blockFlags(drop);
+  std::vector<int> dropped, kept;
+  std::vector<char> seen(blocks_.size(), 0);
+  for (const int id : block_ids_) {
+    const auto i = static_cast<std::size_t>(id);
+    if (seen[i] != 0) continue;
+    seen[i] = 1;
+    if (dropped_flag[i] != 0) {
+      if (blocks_[i].kind != BlockKind::kLandmark) dropped.push_back(id);
+    } else {
+      kept.push_back(id);
     }
   }
   if (kept.empty()) return nullptr;
-  std::vector<const double*> order = dropped;
+  std::vector<int> order = dropped;
   order.insert(order.end(), kept.begin(), kept.end());
   Eigen::MatrixXd H;
   Eigen::VectorXd g;
-  reducedSystem(order, drop, &H, &g);
+  reduce(order, dropped_flag, &H, &g);
   int m = 0;
-  for (const double* p : dropped) m += blocks_.at(p).tangent_size;
+  for (const int id : dropped) m += blocks_[static_cast<std::size_t>(id)].tangent_size;
   const int n = static_cast<int>(H.rows()) - m;
 
   Eigen::MatrixXd Hs = H.bottomRightCorner(n, n);
@@ -287,8 +373,8 @@ std::shared_ptr<MarginalizationPrior> Marginalizer::marginalize(const std::set<c
     prior->J.row(static_cast<int>(k)) = s * es.eigenvectors().col(i).transpose();
     prior->r[static_cast<int>(k)] = es.eigenvectors().col(i).dot(gs) / s;
   }
-  for (const double* p : kept) {
-    const BlockInfo& b = blocks_.at(p);
+  for (const int id : kept) {
+    const BlockInfo& b = blocks_[static_cast<std::size_t>(id)];
     MarginalizationPrior::Block blk;
     blk.data = b.data;
     blk.kind = b.kind == BlockKind::kLandmark ? BlockKind::kEuclidean : b.kind;
@@ -301,27 +387,27 @@ std::shared_ptr<MarginalizationPrior> Marginalizer::marginalize(const std::set<c
 }
 
 bool Marginalizer::marginalCovariance(const double* block, Eigen::MatrixXd* covariance) const {
-  std::vector<const double*> order;
-  std::set<const double*> drop, seen;
+  const int block_id = blockId(block);
+  std::vector<int> order;
+  std::vector<char> dropped(blocks_.size(), 0), seen(blocks_.size(), 0);
   int target = -1, dim = 0;
-  for (const auto& res : residuals_) {
-    for (const double* p : res.parameters) {
-      if (!seen.insert(p).second) continue;
-      const BlockInfo& b = blocks_.at(p);
-      if (b.kind == BlockKind::kLandmark) {
-        drop.insert(p);
-        continue;
-      }
-      if (p == block) target = dim;
-      order.push_back(p);
-      dim += b.tangent_size;
+  for (const int id : block_ids_) {
+    const auto i = static_cast<std::size_t>(id);
+    if (seen[i] != 0) continue;
+    seen[i] = 1;
+    if (blocks_[i].kind == BlockKind::kLandmark) {
+      dropped[i] = 1;
+      continue;
     }
+    if (id == block_id) target = dim;
+    order.push_back(id);
+    dim += blocks_[i].tangent_size;
   }
   if (target < 0) return false;
   Eigen::MatrixXd H;
   Eigen::VectorXd g;
-  reducedSystem(order, drop, &H, &g);
-  const int k = blocks_.at(block).tangent_size;
+  reduce(order, dropped, &H, &g);
+  const int k = blocks_[static_cast<std::size_t>(block_id)].tangent_size;
   Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (H + H.transpose()));
   if (llt.info() != Eigen::Success) return false;
   Eigen::MatrixXd E = Eigen::MatrixXd::Zero(H.rows(), k);

@@ -1,8 +1,7 @@
 #pragma once
-#include <map>
-#include <unordered_map>
 #include <memory>
 #include <set>
+#include <unordered_map>
 #include <vector>
 
 #include <Eigen/Core>
@@ -25,7 +24,11 @@ class Marginalizer {
   /// Adds a residual block. The cost function and loss must outlive the calls below; the
   /// Marginalizer does not take ownership.
   void addResidualBlock(const ceres::CostFunction* cost, const ceres::LossFunction* loss,
-                        std::vector<double*> parameters);
+                        double* const* parameters, int num_parameters);
+  void addResidualBlock(const ceres::CostFunction* cost, const ceres::LossFunction* loss,
+                        const std::vector<double*>& parameters) {
+    addResidualBlock(cost, loss, parameters.data(), static_cast<int>(parameters.size()));
+  }
 
   /// Schur-complements the `drop` blocks out of all added residuals. The prior covers every other
   /// block touched by the residuals, linearised at its current value. Returns nullptr when nothing
@@ -50,16 +53,29 @@ class Marginalizer {
     int size;
     int tangent_size;
   };
+  /// Parameters `first .. first + count` of params_ / block_ids_.
   struct Residual {
     const ceres::CostFunction* cost;
     const ceres::LossFunction* loss;
-    std::vector<double*> parameters;
+    int first;
+    int count;
   };
+  int blockId(const double* data) const;
+  /// Per-block flags of a pointer set (pointers that are not registered blocks are ignored).
+  std::vector<char> blockFlags(const std::set<const double*>& blocks) const;
+  /// reducedSystem() over block ids: `order` lists the dense blocks, `dropped` flags the blocks of
+  /// `drop`.
+  void reduce(const std::vector<int>& order, const std::vector<char>& dropped, Eigen::MatrixXd* H,
+              Eigen::VectorXd* g) const;
   /// Residual and tangent-space Jacobians (loss applied).
   bool linearize(const Residual& res, Eigen::VectorXd* r, std::vector<Eigen::MatrixXd>* J) const;
 
-  std::unordered_map<const double*, BlockInfo> blocks_;
+  // Blocks are addressed by a small id so the per-residual work indexes vectors, not hash maps.
+  std::vector<BlockInfo> blocks_;
+  std::unordered_map<const double*, int> block_ids_by_data_;
   std::vector<Residual> residuals_;
+  std::vector<double*> params_;
+  std::vector<int> block_ids_;
 };
 
 }  // namespace mcvio::estimator
