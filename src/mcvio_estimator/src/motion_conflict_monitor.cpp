@@ -233,6 +233,16 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
       verdicts = lm.verdicts;
     }
   }
+  // Tracks already found moving and still in view keep a partial conflict open: selective
+  // elimination has taken them out of the test above, so without this the interval would close
+  // while the pedestrian or the carried object is still there.
+  if (selective_active && !imu_dominated_ && frames_since_reset_ >= options_.warmup_frames) {
+    int moving_in_view = 0;
+    for (const auto& obs : cam0) moving_in_view += classifier_.isMoving(obs.first) ? 1 : 0;
+    if (moving_in_view >= options_.partial_min_count &&
+        moving_in_view >= options_.partial_min_fraction * static_cast<double>(cam0.size()))
+      evidence = true;
+  }
   pending_.evidence = evidence;
 
   const auto state = tracker_.update(t, evidence);
@@ -267,8 +277,9 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     // e.g. a carried laptop or a vehicle's interior in front of a static street) is selective.
     const bool clear_split = d.report.inconsistent_fraction >= options_.auto_split_fraction &&
                              static_count >= options_.auto_min_static_landmarks;
+    const bool large_group = d.report.landmarks_inconsistent >= options_.auto_min_conflicting_landmarks;
     const bool want_imu = mode == conflict::ResolutionMode::kImu ||
-                          (mode == conflict::ResolutionMode::kAuto && whole &&
+                          (mode == conflict::ResolutionMode::kAuto && whole && large_group &&
                            ((tracker_.justEntered() && !clear_split) ||
                             static_count < options_.auto_min_static_landmarks));
     if (want_imu) {
