@@ -308,11 +308,15 @@ void Marginalizer::reduce(const std::vector<int>& order, const std::vector<char>
       else
         h_inv = pseudoInverse(Eigen::MatrixXd(h));
       const Eigen::Vector3d tg = t.g;
-      for (const auto& [oa, ca] : t.coupling) {
-        const Eigen::Matrix<double, 6, 3> cah = Eigen::Matrix<double, 3, 6>(ca).transpose() * h_inv;
+      // Fixed-size copies once per landmark, not once per pair of blocks.
+      thread_local std::vector<Eigen::Matrix<double, 3, 6>> c;
+      c.resize(t.coupling.size());
+      for (std::size_t a = 0; a < c.size(); ++a) c[a] = t.coupling[a].second;
+      for (std::size_t a = 0; a < c.size(); ++a) {
+        const int oa = t.coupling[a].first;
+        const Eigen::Matrix<double, 6, 3> cah = c[a].transpose() * h_inv;
         g->segment<6>(oa).noalias() -= cah * tg;
-        for (const auto& [ob, cb] : t.coupling)
-          H->block<6, 6>(oa, ob).noalias() -= cah * Eigen::Matrix<double, 3, 6>(cb);
+        for (std::size_t b = 0; b < c.size(); ++b) H->block<6, 6>(oa, t.coupling[b].first).noalias() -= cah * c[b];
       }
       continue;
     }

@@ -2,6 +2,7 @@
 #include <memory>
 #include <random>
 #include <set>
+#include <stdexcept>
 
 #include <ceres/ceres.h>
 #include <gtest/gtest.h>
@@ -214,6 +215,36 @@ TEST(Marginalizer, MarginalCovarianceMatchesFullInverse) {
   hessian(&full, order, &H, &g);
   const Eigen::MatrixXd ref = H.inverse().topLeftCorner(6, 6);
   EXPECT_LT((cov - ref).norm(), 1e-6 * ref.norm());
+}
+
+// A residual over an unregistered block is rejected and leaves nothing behind: the covariance is
+// exactly the one without it.
+TEST(Marginalizer, RejectedResidualLeavesNoTrace) {
+  SmallProblem sp;
+  std::array<double, 3> unregistered{0.1, 0.2, 0.25};
+  Marginalizer with_rejected, clean;
+  for (Marginalizer* m : {&with_rejected, &clean}) {
+    for (auto& p : sp.poses) m->addParameterBlock(p.data(), BlockKind::kPose, 7);
+    for (auto& s : sp.sbs) m->addParameterBlock(s.data(), BlockKind::kEuclidean, 9);
+    for (auto& r : sp.lms) m->addParameterBlock(r.data(), BlockKind::kLandmark, 3);
+  }
+  for (std::size_t i = 0; i < sp.costs.size(); ++i) {
+    if (i == sp.costs.size() / 2) {
+      // The first two blocks are registered: a partial residual must not survive the throw.
+      std::size_t visual = 0;
+      while (sp.params[visual].size() != 3) ++visual;
+      std::vector<double*> bad{sp.params[visual][0], sp.params[visual][1], unregistered.data()};
+      EXPECT_THROW(with_rejected.addResidualBlock(sp.costs[visual].get(), nullptr, bad), std::logic_error);
+    }
+    with_rejected.addResidualBlock(sp.costs[i].get(), nullptr, sp.params[i].data(),
+                                   static_cast<int>(sp.params[i].size()));
+    clean.addResidualBlock(sp.costs[i].get(), nullptr, sp.params[i]);
+  }
+  EXPECT_EQ(with_rejected.residualCount(), clean.residualCount());
+  Eigen::MatrixXd cov_a, cov_b;
+  ASSERT_TRUE(with_rejected.marginalCovariance(sp.poses[2].data(), &cov_a));
+  ASSERT_TRUE(clean.marginalCovariance(sp.poses[2].data(), &cov_b));
+  EXPECT_EQ(cov_a, cov_b);
 }
 
 }  // namespace
