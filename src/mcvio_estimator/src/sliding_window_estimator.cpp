@@ -1,9 +1,11 @@
 #include "mcvio/estimator/sliding_window_estimator.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <time.h>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 #include <unordered_set>
 
 #include <ceres/ceres.h>
@@ -79,6 +81,23 @@ const char* toString(ConflictReport::State state) {
   return "unknown";
 }
 
+SlidingWindowEstimator::ResidualRecord::ResidualRecord(ceres::CostFunction* cost_function,
+                                                       ceres::LossFunction* loss_function,
+                                                       std::initializer_list<double*> blocks, ResidualKind residual_kind)
+    : cost(cost_function), loss(loss_function), kind(residual_kind), num_params(static_cast<int>(blocks.size())) {
+  if (blocks.size() > inline_params.size()) throw std::logic_error("ResidualRecord: too many parameter blocks");
+  std::copy(blocks.begin(), blocks.end(), inline_params.begin());
+}
+
+SlidingWindowEstimator::ResidualRecord::ResidualRecord(ceres::CostFunction* cost_function,
+                                                       const std::vector<double*>& blocks)
+    : cost(cost_function), loss(nullptr), kind(ResidualKind::kPrior), num_params(static_cast<int>(blocks.size())) {
+  if (num_params <= kInlineParams)
+    std::copy(blocks.begin(), blocks.end(), inline_params.begin());
+  else
+    prior_params = blocks;
+}
+
 SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options, const Eigen::Isometry3d& T_BC0,
                                                const Eigen::Isometry3d& T_BC1, double focal_length_px,
                                                const ImuNoiseParams& imu_noise)
@@ -111,7 +130,7 @@ SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options, 
                              0.5 * (rig.cam0.model.fu() + rig.cam0.model.fv()), rig.imu.noise) {}
 
 SlidingWindowEstimator::~SlidingWindowEstimator() {
-  // The records point into the problem; drop them first.
+  // The problem refers to the cost functions; drop it first.
   records_.clear();
   problem_.reset();
 }
@@ -523,18 +542,22 @@ std::vector<Eigen::Vector3d> SlidingWindowEstimator::landmarkPositions() const {
 void SlidingWindowEstimator::solve(EstimatorOutput* out) {
   const auto t0 = Clock::now();
   records_.clear();
+  problem_.reset();
   extra_costs_.clear();
+  for (auto it = observation_costs_.begin(); it != observation_costs_.end();)
+    it = landmarks_.count(it->first) == 0 ? observation_costs_.erase(it) : std::next(it);
   problem_ = std::make_unique<ProblemHolder>();
   ceres::Problem::Options popts;
+  popts.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   popts.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   popts.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   popts.enable_fast_removal = false;
   problem_->problem = std::make_unique<ceres::Problem>(popts);
   ceres::Problem& problem = *problem_->problem;
-  auto add = [&](ceres::CostFunction* cost, ceres::LossFunction* loss, std::vector<double*> params, ResidualKind kind) {
-    problem.AddResidualBlock(cost, loss, params);
-    records_.push_back(ResidualRecord{cost, loss, std::move(params), kind});
-    return &records_.back();
+  auto add = [&](ceres::CostFunction* cost, std::initializer_list<double*> params, ResidualKind kind) {
+    extra_costs_.emplace_back(cost);
+    records_.emplace_back(cost, nullptr, params, kind);
+    problem.AddResidualBlock(cost, nullptr, records_.back().params(), records_.back().num_params);
   };
   records_.reserve(4096);
 
@@ -547,25 +570,27 @@ void SlidingWindowEstimator::solve(EstimatorOutput* out) {
   }
   if (prior_) {
     auto* cost = new MarginalizationFactor(prior_);
-    add(cost, nullptr, cost->parameterBlocks(), ResidualKind::kPrior);
+    extra_costs_.emplace_back(cost);
+    records_.emplace_back(cost, cost->parameterBlocks());
+    problem.AddResidualBlock(cost, nullptr, records_.back().params(), records_.back().num_params);
   }
   for (std::size_t i = 1; i < frames_.size(); ++i) {
     Frame& f = *frames_[i];
     Frame& p = *frames_[i - 1];
     if (f.imu && f.has_speed_bias && p.has_speed_bias)
-      add(ImuFactor::create(*f.imu, gravity_), nullptr, {p.pose.data(), p.sb.data(), f.pose.data(), f.sb.data()},
+      add(ImuFactor::create(*f.imu, gravity_), {p.pose.data(), p.sb.data(), f.pose.data(), f.sb.data()},
           ResidualKind::kImu);
   }
   for (auto& f : frames_) {
     if (!f->has_vision_rotation) continue;
     Frame* prev = frameById(f->rotation_prev_id);
     if (prev == nullptr) continue;  // already folded into the prior with the previous frame
-    add(RelativeRotationFactor::create(f->vision_rotation, f->vision_rotation_sqrt_info), nullptr,
+    add(RelativeRotationFactor::create(f->vision_rotation, f->vision_rotation_sqrt_info),
         {prev->pose.data(), f->pose.data()}, ResidualKind::kVisionRotation);
   }
   for (auto& f : frames_)
     if (f->zero_velocity && f->has_speed_bias)
-      add(new ZeroVelocityFactor(options_.zero_velocity_sigma), nullptr, {f->sb.data()}, ResidualKind::kZeroVelocity);
+      add(new ZeroVelocityFactor(options_.zero_velocity_sigma), {f->sb.data()}, ResidualKind::kZeroVelocity);
 
   const double scale = focal_px_ / options_.observation_sigma_px;
   ceres::ParameterBlockOrdering* ordering = new ceres::ParameterBlockOrdering;
@@ -574,6 +599,23 @@ void SlidingWindowEstimator::solve(EstimatorOutput* out) {
   for (auto& [track, lm] : landmarks_) {
     Frame* anchor = frameById(lm.anchor_frame);
     if (anchor == nullptr || !(lm.param[2] > 0)) continue;
+    auto& costs = observation_costs_[track];
+    auto cachedCost = [&](std::uint64_t frame_id, int camera, bool in_anchor,
+                          const Eigen::Vector2d& measured) -> ObservationCost& {
+      for (auto& c : costs)
+        if (c.frame_id == frame_id && c.camera == camera && c.in_anchor == in_anchor) return c;
+      ObservationCost c;
+      c.frame_id = frame_id;
+      c.camera = camera;
+      c.in_anchor = in_anchor;
+      if (in_anchor)
+        c.cost = std::make_unique<AnchorObservationFactor>(measured, camera == 0 ? Eigen::Isometry3d::Identity() : T_C1C0_,
+                                                           scale);
+      else
+        c.cost = std::make_unique<ReprojectionFactor>(measured, T_BC0_, camera == 0 ? T_BC0_ : T_BC1_, scale);
+      costs.push_back(std::move(c));
+      return costs.back();
+    };
     pending.clear();
     for (auto& f : frames_) {
       for (int c = 0; c < 2; ++c) {
@@ -581,37 +623,44 @@ void SlidingWindowEstimator::solve(EstimatorOutput* out) {
         const auto it = map.find(track);
         if (it == map.end()) continue;
         if (f.get() == anchor) {
-          pending.push_back(ResidualRecord{
-              new AnchorObservationFactor(it->second, c == 0 ? Eigen::Isometry3d::Identity() : T_C1C0_, scale),
-              loss_.get(), {lm.param.data()}, ResidualKind::kVisual, track, f->id, c});
+          ceres::CostFunction* cost = cachedCost(f->id, c, true, it->second).cost.get();
+          pending.emplace_back(cost, loss_.get(), std::initializer_list<double*>{lm.param.data()}, ResidualKind::kVisual);
+          pending.back().track_id = track;
+          pending.back().frame_id = f->id;
+          pending.back().camera = c;
           continue;
         }
         if (c == 1 && !options_.right_camera_in_all_frames) continue;
-        auto* cost = new ReprojectionFactor(it->second, T_BC0_, c == 0 ? T_BC0_ : T_BC1_, scale);
+        auto* cost = static_cast<ReprojectionFactor*>(cachedCost(f->id, c, false, it->second).cost.get());
         Eigen::Vector3d p_C;
-        if (!cost->pointInCamera(anchor->pose.data(), f->pose.data(), lm.param.data(), &p_C)) {
-          delete cost;
-          continue;
-        }
-        pending.push_back(ResidualRecord{cost, loss_.get(), {anchor->pose.data(), f->pose.data(), lm.param.data()},
-                                         ResidualKind::kVisual, track, f->id, c});
+        if (!cost->pointInCamera(anchor->pose.data(), f->pose.data(), lm.param.data(), &p_C)) continue;
+        pending.emplace_back(cost, loss_.get(),
+                             std::initializer_list<double*>{anchor->pose.data(), f->pose.data(), lm.param.data()},
+                             ResidualKind::kVisual);
+        pending.back().track_id = track;
+        pending.back().frame_id = f->id;
+        pending.back().camera = c;
       }
     }
     // A landmark seen only in its anchor frame constrains no pose yet.
     bool constrains_pose = false;
-    for (const auto& r : pending) constrains_pose |= r.params.size() > 1;
-    if (!constrains_pose) {
-      for (auto& r : pending) delete r.cost;
-      continue;
+    for (const auto& r : pending) constrains_pose |= r.num_params > 1;
+    if (constrains_pose) {
+      problem.AddParameterBlock(lm.param.data(), 3);
+      ordering->AddElementToGroup(lm.param.data(), 0);
+      ++n_landmarks;
+      for (auto& r : pending) {
+        problem.AddResidualBlock(r.cost, r.loss, r.params(), r.num_params);
+        records_.push_back(std::move(r));
+        ++n_visual;
+      }
     }
-    problem.AddParameterBlock(lm.param.data(), 3);
-    ordering->AddElementToGroup(lm.param.data(), 0);
-    ++n_landmarks;
-    for (auto& r : pending) {
-      problem.AddResidualBlock(r.cost, r.loss, r.params);
-      records_.push_back(std::move(r));
-      ++n_visual;
-    }
+    // Cost functions of observations that are not in this problem go.
+    for (auto& c : costs)
+      c.used = constrains_pose &&
+               std::any_of(pending.begin(), pending.end(), [&](const ResidualRecord& r) { return r.cost == c.cost.get(); });
+    costs.erase(std::remove_if(costs.begin(), costs.end(), [](const ObservationCost& c) { return !c.used; }),
+                costs.end());
   }
   for (auto& f : frames_) {
     ordering->AddElementToGroup(f->pose.data(), 1);
@@ -644,7 +693,7 @@ void SlidingWindowEstimator::removeOutliers(EstimatorOutput* out) {
   for (auto& r : records_) {
     if (r.kind != ResidualKind::kVisual || !r.valid) continue;
     Eigen::Vector2d res;
-    const bool ok = r.cost->Evaluate(r.params.data(), res.data(), nullptr);
+    const bool ok = r.cost->Evaluate(r.params(), res.data(), nullptr);
     if (ok && res.norm() * sigma <= options_.outlier_threshold_px) continue;
     r.valid = false;
     ++out->num_outliers;
@@ -699,7 +748,7 @@ void SlidingWindowEstimator::computeCovariance(EstimatorOutput* out) {
   }
   for (auto& [track, lm] : landmarks_) m.addParameterBlock(lm.param.data(), BlockKind::kLandmark, 3);
   for (const auto& r : records_)
-    if (r.valid) m.addResidualBlock(r.cost, r.loss, r.params);
+    if (r.valid) m.addResidualBlock(r.cost, r.loss, r.params(), r.num_params);
   Eigen::MatrixXd cov;
   try {
     out->covariance_valid = m.marginalCovariance(newest().pose.data(), &cov);
@@ -718,7 +767,7 @@ void SlidingWindowEstimator::marginalizeWith(const std::vector<const ResidualRec
     if (f->has_speed_bias) m.addParameterBlock(f->sb.data(), BlockKind::kEuclidean, 9);
   }
   for (auto& [track, lm] : landmarks_) m.addParameterBlock(lm.param.data(), BlockKind::kLandmark, 3);
-  for (const auto* r : records) m.addResidualBlock(r->cost, r->loss, r->params);
+  for (const auto* r : records) m.addResidualBlock(r->cost, r->loss, r->params(), r->num_params);
   try {
     prior_ = m.marginalize(drop);
   } catch (const std::exception& e) {
@@ -731,7 +780,7 @@ void SlidingWindowEstimator::marginalizeWith(const std::vector<const ResidualRec
   for (const auto* r : records) const_cast<ResidualRecord*>(r)->valid = false;
   if (prior_) {
     auto cost = std::make_unique<MarginalizationFactor>(prior_);
-    records_.push_back(ResidualRecord{cost.get(), nullptr, cost->parameterBlocks(), ResidualKind::kPrior});
+    records_.emplace_back(cost.get(), cost->parameterBlocks());
     extra_costs_.push_back(std::move(cost));
   }
 }
@@ -778,7 +827,7 @@ void SlidingWindowEstimator::marginalizeOldestImuFrame() {
   for (const auto& r : records_) {
     if (!r.valid || r.kind == ResidualKind::kVisual) continue;
     bool touches = r.kind == ResidualKind::kPrior;  // always carried over
-    for (double* p : r.params) touches |= drop.count(p) != 0;
+    for (int i = 0; i < r.num_params; ++i) touches |= drop.count(r.params()[i]) != 0;
     if (touches) records.push_back(&r);
   }
   marginalizeWith(records, drop);
@@ -792,7 +841,7 @@ void SlidingWindowEstimator::marginalizeOldestImuFrame() {
     if (lm.anchor_frame == fo.id && !reanchor(lm, fo.id)) lost.push_back(track);
   for (auto t : lost) eraseLandmark(t);
   for (auto& r : records_)
-    if (r.frame_id == fo.id || (r.params.size() > 1 && (r.params[0] == fo.pose.data() || r.params[1] == fo.pose.data())))
+    if (r.frame_id == fo.id || (r.num_params > 1 && (r.params()[0] == fo.pose.data() || r.params()[1] == fo.pose.data())))
       r.valid = false;
   frames_.erase(frames_.begin() + static_cast<std::ptrdiff_t>(io));
 }
@@ -824,7 +873,7 @@ void SlidingWindowEstimator::marginalizeOldestKeyframe() {
     if (r.kind == ResidualKind::kVisual) {
       take = dead.count(r.track_id) != 0;
     } else {
-      for (double* p : r.params) take |= p == k0.pose.data();
+      for (int i = 0; i < r.num_params; ++i) take |= r.params()[i] == k0.pose.data();
     }
     if (take) records.push_back(&r);
   }
@@ -835,7 +884,7 @@ void SlidingWindowEstimator::marginalizeOldestKeyframe() {
     if (lm.anchor_frame == k0.id && !reanchor(lm, k0.id)) lost.push_back(track);
   for (auto t : lost) eraseLandmark(t);
   for (auto& r : records_)
-    if (r.frame_id == k0.id || (r.params.size() > 1 && (r.params[0] == k0.pose.data() || r.params[1] == k0.pose.data())))
+    if (r.frame_id == k0.id || (r.num_params > 1 && (r.params()[0] == k0.pose.data() || r.params()[1] == k0.pose.data())))
       r.valid = false;
   frames_.pop_front();
 }
@@ -844,8 +893,9 @@ void SlidingWindowEstimator::reset(const std::string& reason) {
   spdlog::warn("{}reset at t={} ns: {} (re-initialising at the last good position and yaw)", kLog,
                frames_.empty() ? 0 : frames_.back()->t, reason);
   records_.clear();
-  extra_costs_.clear();
   problem_.reset();
+  extra_costs_.clear();
+  observation_costs_.clear();
   frames_.clear();
   landmarks_.clear();
   prior_.reset();
@@ -897,8 +947,9 @@ void SlidingWindowEstimator::restartFrom(Frame& cur, const MotionConflictMonitor
   cur.has_speed_bias = true;
   std::unique_ptr<Frame> keep = std::move(frames_.back());
   records_.clear();
-  extra_costs_.clear();
   problem_.reset();
+  extra_costs_.clear();
+  observation_costs_.clear();
   frames_.clear();
   frames_.push_back(std::move(keep));
   landmarks_.clear();

@@ -1,6 +1,7 @@
 #pragma once
 #include <array>
 #include <deque>
+#include <initializer_list>
 #include <memory>
 #include <set>
 #include <string>
@@ -102,14 +103,32 @@ class SlidingWindowEstimator {
   };
   enum class ResidualKind { kImu, kPrior, kZeroVelocity, kVisual, kVisionRotation };
   struct ResidualRecord {
+    ResidualRecord(ceres::CostFunction* cost_function, ceres::LossFunction* loss_function,
+                   std::initializer_list<double*> blocks, ResidualKind residual_kind);
+    /// A prior: any number of blocks.
+    ResidualRecord(ceres::CostFunction* cost_function, const std::vector<double*>& blocks);
+    double* const* params() const { return num_params <= kInlineParams ? inline_params.data() : prior_params.data(); }
+
+    static constexpr int kInlineParams = 4;
     ceres::CostFunction* cost;
     ceres::LossFunction* loss;
-    std::vector<double*> params;
     ResidualKind kind;
     std::uint64_t track_id = 0;
     std::uint64_t frame_id = 0;
     int camera = 0;
     bool valid = true;
+    int num_params = 0;
+    // Blocks inline: a heap vector per residual and frame showed up in the allocator's profile.
+    std::array<double*, kInlineParams> inline_params{};
+    std::vector<double*> prior_params;
+  };
+  /// A visual cost function kept across frames: observation, camera and extrinsics do not change.
+  struct ObservationCost {
+    std::uint64_t frame_id = 0;
+    int camera = 0;
+    bool in_anchor = false;  ///< AnchorObservationFactor, else ReprojectionFactor
+    bool used = false;       ///< in the current problem
+    std::unique_ptr<ceres::CostFunction> cost;
   };
 
   bool initialize(std::unique_ptr<Frame> frame, std::string* message);
@@ -152,8 +171,10 @@ class SlidingWindowEstimator {
   std::deque<std::unique_ptr<Frame>> frames_;
   std::unordered_map<std::uint64_t, Landmark> landmarks_;
   std::shared_ptr<MarginalizationPrior> prior_;
-  std::vector<ResidualRecord> records_;  ///< residuals of the last solve (owned by problem_)
-  std::vector<std::unique_ptr<ceres::CostFunction>> extra_costs_;  ///< prior factors made after the solve
+  std::vector<ResidualRecord> records_;  ///< residuals of the last solve
+  std::vector<std::unique_ptr<ceres::CostFunction>> extra_costs_;  ///< non-visual cost functions of records_
+  /// Visual cost functions by track; an entry lives while its observation is in the problem.
+  std::unordered_map<std::uint64_t, std::vector<ObservationCost>> observation_costs_;
   struct ProblemHolder;
   std::unique_ptr<ProblemHolder> problem_;
 
