@@ -265,9 +265,10 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     imu_dominated_ = false;
     secondary_.end();
     classifier_.clear();
-    // The frames of the interval carry the drifted inertial velocity: let vision correct it
-    // before they serve as reference frames again.
-    frames_since_reset_ = std::min(frames_since_reset_, options_.warmup_frames - H - options_.enter_frames);
+    // The frames of the interval carry the drifted inertial velocity, and vision needs a while to
+    // correct it: a full warm-up before they serve as reference frames again (a shorter one
+    // reopened a false interval after a vehicle ride).
+    frames_since_reset_ = 0;
   }
   if (tracker_.inConflict() && !imu_dominated_) {
     // Auto: a conflict that opens whole-view without a static group (a closed cabin) is
