@@ -316,7 +316,13 @@ void Marginalizer::reduce(const std::vector<int>& order, const std::vector<char>
         const int oa = t.coupling[a].first;
         const Eigen::Matrix<double, 6, 3> cah = c[a].transpose() * h_inv;
         g->segment<6>(oa).noalias() -= cah * tg;
-        for (std::size_t b = 0; b < c.size(); ++b) H->block<6, 6>(oa, t.coupling[b].first).noalias() -= cah * c[b];
+        for (std::size_t b = a; b < c.size(); ++b) {
+          const int ob = t.coupling[b].first;
+          const Eigen::Matrix<double, 6, 6> s = cah * c[b];
+          H->block<6, 6>(oa, ob) -= s;
+          // The update is symmetric: the mirrored block needs no product of its own.
+          if (b != a) H->block<6, 6>(ob, oa) -= s.transpose();
+        }
       }
       continue;
     }
