@@ -552,6 +552,9 @@ void SlidingWindowEstimator::solve(EstimatorOutput* out) {
   popts.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   popts.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   popts.enable_fast_removal = false;
+  // The checks (a sorted copy of every residual's blocks, aliasing look-ups) cost an allocation per
+  // residual and frame; every residual here has distinct, registered blocks of the declared sizes.
+  popts.disable_all_safety_checks = true;
   problem_->problem = std::make_unique<ceres::Problem>(popts);
   ceres::Problem& problem = *problem_->problem;
   auto add = [&](ceres::CostFunction* cost, std::initializer_list<double*> params, ResidualKind kind) {
