@@ -205,8 +205,10 @@ void Marginalizer::reduce(const std::vector<int>& order, const std::vector<char>
         }
         const int o0 = offsetOf(ids[0]), o1 = offsetOf(ids[1]);
         H->block<6, 6>(o0, o0).noalias() += J0.transpose() * J0;
-        H->block<6, 6>(o0, o1).noalias() += J0.transpose() * J1;
-        H->block<6, 6>(o1, o0).noalias() += J1.transpose() * J0;
+        // Two-term sums: J1^T J0 is exactly the transpose of J0^T J1.
+        const Eigen::Matrix<double, 6, 6> h01 = J0.transpose() * J1;
+        H->block<6, 6>(o0, o1) += h01;
+        H->block<6, 6>(o1, o0) += h01.transpose();
         H->block<6, 6>(o1, o1).noalias() += J1.transpose() * J1;
         g->segment<6>(o0).noalias() += J0.transpose() * rr;
         g->segment<6>(o1).noalias() += J1.transpose() * rr;

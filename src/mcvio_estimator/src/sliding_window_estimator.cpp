@@ -515,8 +515,10 @@ void SlidingWindowEstimator::repropagateImu() {
     if (!f.imu) continue;
     const Frame& p = *frames_[i - 1];
     const ImuBias b{Eigen::Map<const Eigen::Vector3d>(p.sb.data() + 3), Eigen::Map<const Eigen::Vector3d>(p.sb.data() + 6)};
-    if (f.imu->needsRepropagation(b, options_.repropagate_gyro_bias_change, options_.repropagate_accel_bias_change))
+    if (f.imu->needsRepropagation(b, options_.repropagate_gyro_bias_change, options_.repropagate_accel_bias_change)) {
       f.imu->repropagate(b);
+      f.imu_cost.reset();
+    }
   }
 }
 
@@ -558,10 +560,10 @@ void SlidingWindowEstimator::solve(EstimatorOutput* out) {
   problem_->problem = std::make_unique<ceres::Problem>(popts);
   ceres::Problem& problem = *problem_->problem;
   auto add = [&](ceres::CostFunction* cost, std::initializer_list<double*> params, ResidualKind kind) {
-    extra_costs_.emplace_back(cost);
     records_.emplace_back(cost, nullptr, params, kind);
     problem.AddResidualBlock(cost, nullptr, records_.back().params(), records_.back().num_params);
   };
+  auto own = [&](ceres::CostFunction* cost) { return extra_costs_.emplace_back(cost).get(); };
   records_.reserve(4096);
 
   for (auto& f : frames_) {
@@ -573,27 +575,28 @@ void SlidingWindowEstimator::solve(EstimatorOutput* out) {
   }
   if (prior_) {
     auto* cost = new MarginalizationFactor(prior_);
-    extra_costs_.emplace_back(cost);
+    own(cost);
     records_.emplace_back(cost, cost->parameterBlocks());
     problem.AddResidualBlock(cost, nullptr, records_.back().params(), records_.back().num_params);
   }
   for (std::size_t i = 1; i < frames_.size(); ++i) {
     Frame& f = *frames_[i];
     Frame& p = *frames_[i - 1];
-    if (f.imu && f.has_speed_bias && p.has_speed_bias)
-      add(ImuFactor::create(*f.imu, gravity_), {p.pose.data(), p.sb.data(), f.pose.data(), f.sb.data()},
-          ResidualKind::kImu);
+    if (!f.imu || !f.has_speed_bias || !p.has_speed_bias) continue;
+    // Making the factor inverts and factorises the preintegration's covariance: once per preintegration.
+    if (!f.imu_cost) f.imu_cost.reset(ImuFactor::create(*f.imu, gravity_));
+    add(f.imu_cost.get(), {p.pose.data(), p.sb.data(), f.pose.data(), f.sb.data()}, ResidualKind::kImu);
   }
   for (auto& f : frames_) {
     if (!f->has_vision_rotation) continue;
     Frame* prev = frameById(f->rotation_prev_id);
     if (prev == nullptr) continue;  // already folded into the prior with the previous frame
-    add(RelativeRotationFactor::create(f->vision_rotation, f->vision_rotation_sqrt_info),
+    add(own(RelativeRotationFactor::create(f->vision_rotation, f->vision_rotation_sqrt_info)),
         {prev->pose.data(), f->pose.data()}, ResidualKind::kVisionRotation);
   }
   for (auto& f : frames_)
     if (f->zero_velocity && f->has_speed_bias)
-      add(new ZeroVelocityFactor(options_.zero_velocity_sigma), {f->sb.data()}, ResidualKind::kZeroVelocity);
+      add(own(new ZeroVelocityFactor(options_.zero_velocity_sigma)), {f->sb.data()}, ResidualKind::kZeroVelocity);
 
   const double scale = focal_px_ / options_.observation_sigma_px;
   ceres::ParameterBlockOrdering* ordering = new ceres::ParameterBlockOrdering;
@@ -835,6 +838,7 @@ void SlidingWindowEstimator::marginalizeOldestImuFrame() {
   }
   marginalizeWith(records, drop);
   next.imu.reset();
+  next.imu_cost.reset();
   if (fo.keyframe) {
     fo.has_speed_bias = false;
     return;
@@ -946,6 +950,7 @@ void SlidingWindowEstimator::restartFrom(Frame& cur, const MotionConflictMonitor
   Eigen::Map<Eigen::Vector3d>(cur.sb.data() + 3) = state.bias.gyro;
   Eigen::Map<Eigen::Vector3d>(cur.sb.data() + 6) = state.bias.accel;
   cur.imu.reset();
+  cur.imu_cost.reset();
   cur.keyframe = true;
   cur.has_speed_bias = true;
   std::unique_ptr<Frame> keep = std::move(frames_.back());

@@ -92,6 +92,7 @@ class SlidingWindowEstimator {
     Eigen::Quaterniond vision_rotation = Eigen::Quaterniond::Identity();
     Eigen::Matrix3d vision_rotation_sqrt_info = Eigen::Matrix3d::Identity();
     std::unique_ptr<ImuPreintegrator> imu;  ///< from the previous frame, while both are in the IMU window
+    std::unique_ptr<ceres::CostFunction> imu_cost;  ///< factor made from `imu`; reset whenever `imu` changes
     std::unordered_map<std::uint64_t, Eigen::Vector2d> cam0, cam1;  ///< track -> normalised coords
   };
   struct Landmark {
@@ -172,7 +173,9 @@ class SlidingWindowEstimator {
   std::unordered_map<std::uint64_t, Landmark> landmarks_;
   std::shared_ptr<MarginalizationPrior> prior_;
   std::vector<ResidualRecord> records_;  ///< residuals of the last solve
-  std::vector<std::unique_ptr<ceres::CostFunction>> extra_costs_;  ///< non-visual cost functions of records_
+  /// Cost functions of records_ made for one solve, and priors made after it (visual ones live in
+  /// observation_costs_, IMU ones in their frame).
+  std::vector<std::unique_ptr<ceres::CostFunction>> extra_costs_;
   /// Visual cost functions by track; an entry lives while its observation is in the problem.
   std::unordered_map<std::uint64_t, std::vector<ObservationCost>> observation_costs_;
   struct ProblemHolder;
