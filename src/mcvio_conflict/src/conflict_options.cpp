@@ -72,8 +72,8 @@ void ConflictOptions::validate() const {
           auto_split_fraction);
   require(selective_strikes >= 1, "selective_strikes", "must be >= 1", selective_strikes);
   require(auto_min_static_landmarks >= 0, "auto_min_static_landmarks", "must be >= 0", auto_min_static_landmarks);
-  require(auto_min_conflicting_landmarks >= 0, "auto_min_conflicting_landmarks", "must be >= 0",
-          auto_min_conflicting_landmarks);
+  require(auto_min_tested_landmarks >= 0, "auto_min_tested_landmarks", "must be >= 0",
+          auto_min_tested_landmarks);
 }
 
 ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::string& context) {
@@ -117,7 +117,7 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("selective_strikes", &o.selective_strikes);
   read("use_frontend_labels", &o.use_frontend_labels);
   read("auto_min_static_landmarks", &o.auto_min_static_landmarks);
-  read("auto_min_conflicting_landmarks", &o.auto_min_conflicting_landmarks);
+  read("auto_min_tested_landmarks", &o.auto_min_tested_landmarks);
   read("auto_split_fraction", &o.auto_split_fraction);
   read("rewind_on_entry", &o.rewind_on_entry);
   read("rewind_frames", &o.rewind_frames);

@@ -72,10 +72,10 @@ struct ConflictOptions {
   bool use_frontend_labels = true;
   /// Auto: selective needs this many landmarks left that agree with the IMU.
   int auto_min_static_landmarks = 15;
-  /// Auto: IMU-dominated (which drops every visual residual) needs at least this many landmarks
-  /// disagreeing with the IMU: a cabin's walls, not a handful at the edge of a close occluder whose
-  /// own features find no stereo match.
-  int auto_min_conflicting_landmarks = 30;
+  /// Auto: IMU-dominated (which drops every visual residual) needs at least this many landmarks in
+  /// the test. With fewer, e.g. behind a close occluder whose own features find no stereo match,
+  /// the whole-view evidence rests on a handful of points and selective keeps what vision is left.
+  int auto_min_tested_landmarks = 30;
   /// Auto: an interval that opens with at least this share of landmarks disagreeing while
   /// `auto_min_static_landmarks` still agree is a clear split and goes selective.
   double auto_split_fraction = 0.3;
