@@ -278,9 +278,9 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     // e.g. a carried laptop or a vehicle's interior in front of a static street) is selective.
     const bool clear_split = d.report.inconsistent_fraction >= options_.auto_split_fraction &&
                              static_count >= options_.auto_min_static_landmarks;
-    const bool large_group = d.report.landmarks_tested >= options_.auto_min_tested_landmarks;
+    const bool enough_tested = d.report.landmarks_tested >= options_.auto_min_tested_landmarks;
     const bool want_imu = mode == conflict::ResolutionMode::kImu ||
-                          (mode == conflict::ResolutionMode::kAuto && whole && large_group &&
+                          (mode == conflict::ResolutionMode::kAuto && whole && enough_tested &&
                            ((tracker_.justEntered() && !clear_split) ||
                             static_count < options_.auto_min_static_landmarks));
     if (want_imu) {
