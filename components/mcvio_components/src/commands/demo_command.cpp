@@ -92,7 +92,7 @@ void addPipelineDemoCommand(CLI::App& app, CommandContext& ctx) {
   auto opt = std::make_shared<Options>();
   auto* cmd = app.add_subcommand(
       "demo",
-      "The whole system on two simulated motion conflicts, on this machine, in a few minutes:\n"
+      "The whole system on two simulated motion conflicts, on this machine, in about a minute:\n"
       "  1. renders two stereo-inertial EuRoC sequences: an elevator ride (the cameras see a closed\n"
       "     cabin standing still while the IMU feels it move) and a self-occlusion (a carried laptop\n"
       "     covers most of the view), the conflict from 1/3 to 11/15 of the sequence;\n"
@@ -108,7 +108,7 @@ void addPipelineDemoCommand(CLI::App& app, CommandContext& ctx) {
       "already published there; while it runs, other shells on that domain see them (`mcvio topics`).\n"
       "Examples:\n"
       "  mcvio demo\n"
-      "  mcvio demo --quick --out /tmp/demo_quick          16 s sequences, about 1.5 minutes here\n"
+      "  mcvio demo --quick --out /tmp/demo_quick          16 s sequences, 39 s measured here\n"
       "  mcvio demo --mode selective --duration 40 --keep  rerun later without rendering again");
   cmd->add_option("--out", opt->pipeline.out_dir, "output folder (created; the demo's own subfolders in it are replaced), "
                                                   "e.g. --out /tmp/my_demo")
@@ -119,8 +119,8 @@ void addPipelineDemoCommand(CLI::App& app, CommandContext& ctx) {
       ->check(CLI::IsMember({"imu", "selective", "auto"}))
       ->capture_default_str();
   cmd->add_option("--duration", opt->pipeline.duration_s,
-                  "length of each simulated sequence [s], 12..600; rendering takes about 1.5-2 s per simulated\n"
-                  "second here, so 30 s is about 5 minutes in all, e.g. --duration 45")
+                  "length of each simulated sequence [s], 12..600; the whole demo takes about 2 s per simulated\n"
+                  "second here (30 s: about a minute, 1 min 7 s measured), e.g. --duration 45")
       ->check(CLI::Range(12.0, 600.0))
       ->capture_default_str();
   cmd->add_flag("--quick", opt->quick, "16 s sequences (conflict 5.3-11.7 s) instead of --duration: a quicker look");
