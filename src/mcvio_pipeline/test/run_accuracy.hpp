@@ -18,9 +18,25 @@ struct RunAccuracy {
   double ate_se3_rmse = 0;                            ///< [m], SE(3) alignment
   double rpe_1s_translation_rmse = 0;                 ///< [m] over 1 s
   double rpe_1s_rotation_rmse_deg = 0;
-  double position_nees = 0;  ///< mean of e^T P^-1 e over frames with a covariance (3 = consistent)
+  /// Mean of e^T P^-1 e over frames with a covariance, the estimate aligned at its first pose
+  /// (the estimator's gauge): 3 = consistent.
+  double position_nees = 0;
+  /// The same after the whole-run position+yaw alignment (ATE's): not in the covariance's gauge,
+  /// it counts the alignment's shift at the start, where the covariance is millimetres.
+  double position_nees_whole_run_alignment = 0;
   std::size_t nees_frames = 0;
+  /// Per frame with a covariance: the first-pose-aligned error and its covariance's diagonal.
+  struct NeesSample {
+    Timestamp t = 0;
+    Eigen::Vector3d error = Eigen::Vector3d::Zero();     ///< p_gt - p_estimate [m], ground-truth world
+    Eigen::Vector3d variance = Eigen::Vector3d::Zero();  ///< diagonal of the rotated covariance [m^2]
+    double nees = 0;
+  };
+  std::vector<NeesSample> nees_samples;
 };
+
+/// Writes RunAccuracy::nees_samples as CSV (t [s], error xyz, sigma xyz, NEES); throws on I/O errors.
+void writeNeesCsv(const RunAccuracy& accuracy, const std::string& path);
 
 /// Position covariances of a run by frame time, collected with OfflineRunOptions::on_frame.
 class CovarianceLog {
