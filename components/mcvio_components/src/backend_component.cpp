@@ -252,6 +252,12 @@ struct BackendComponent::Impl {
       T_WB.translation() = e.p_WB;
       tf_pub->publish(toTfMessage({toTransformStamped(T_WB, e.t, options.world_frame, options.body_frame)}));
       path.push_back({e.t, e.p_WB, e.q_WB});
+      // The conflict window re-estimated earlier frames: the path shows the final estimate.
+      for (const auto& rev : e.revised_poses) {
+        const auto it = std::lower_bound(path.begin(), path.end(), rev.t,
+                                         [](const StampedPose& a, Timestamp t) { return a.t < t; });
+        if (it != path.end() && it->t == rev.t) *it = {rev.t, rev.p_WB, rev.q_WB};
+      }
       if (options.max_path_poses > 0 && path.size() > options.max_path_poses) path.pop_front();
       path_pub->publish(toPathMsg(std::vector<StampedPose>(path.begin(), path.end()), options.world_frame));
       conflict_pub->publish(toMotionConflictMsg(e, options.world_frame));

@@ -68,6 +68,13 @@ void ConflictOptions::validate() const {
   require(exit_frames >= 1, "exit_frames", "must be >= 1", exit_frames);
   require(rotation_chi2_threshold > 0, "rotation_chi2_threshold", "must be > 0", rotation_chi2_threshold);
   require(rewind_frames >= 0 && rewind_frames <= 400, "rewind_frames", "must be in [0, 400]", rewind_frames);
+  require(hold_min_secondary_speed_mps > 0, "hold_min_secondary_speed_mps", "must be > 0", hold_min_secondary_speed_mps);
+  require(hold_secondary_speed_fraction >= 0 && hold_secondary_speed_fraction <= 1, "hold_secondary_speed_fraction",
+          "must be in [0, 1]", hold_secondary_speed_fraction);
+  require(smoothing_settle_frames >= 1 && smoothing_settle_frames <= 400, "smoothing_settle_frames", "must be in [1, 400]",
+          smoothing_settle_frames);
+  require(smoothing_max_accel_bias_correction > 0, "smoothing_max_accel_bias_correction", "must be > 0",
+          smoothing_max_accel_bias_correction);
   require(auto_split_fraction > 0 && auto_split_fraction <= 1, "auto_split_fraction", "must be in (0, 1]",
           auto_split_fraction);
   require(selective_strikes >= 1, "selective_strikes", "must be >= 1", selective_strikes);
@@ -123,6 +130,11 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("rewind_frames", &o.rewind_frames);
   read("keep_consistent_rotation", &o.keep_consistent_rotation);
   read("rotation_chi2_threshold", &o.rotation_chi2_threshold);
+  read("hold_min_secondary_speed_mps", &o.hold_min_secondary_speed_mps);
+  read("hold_secondary_speed_fraction", &o.hold_secondary_speed_fraction);
+  read("smoothing_enabled", &o.smoothing_enabled);
+  read("smoothing_settle_frames", &o.smoothing_settle_frames);
+  read("smoothing_max_accel_bias_correction", &o.smoothing_max_accel_bias_correction);
   for (const auto& kv : node) {
     const std::string key = kv.first.as<std::string>();
     if (known.count(key) == 0) throw InputError(context + ": unknown conflict option '" + key + "'");

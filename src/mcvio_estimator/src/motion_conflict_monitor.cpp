@@ -1,5 +1,6 @@
 #include "mcvio/estimator/motion_conflict_monitor.hpp"
 
+#include <algorithm>
 
 #include <Eigen/Dense>
 
@@ -15,6 +16,13 @@ conflict::RelativePoseSolver::Options solverOptions(const conflict::ConflictOpti
   s.observation_sigma_px = o.observation_sigma_px;
   s.huber_px = 2.0 * o.observation_sigma_px;
   s.outlier_px = 4.0 * o.observation_sigma_px;
+  return s;
+}
+
+ConflictIntervalSmoother::Options smootherOptions(const conflict::ConflictOptions& o) {
+  ConflictIntervalSmoother::Options s;
+  s.settle_frames = o.smoothing_settle_frames;
+  s.max_accel_bias_correction = o.smoothing_max_accel_bias_correction;
   return s;
 }
 
@@ -41,7 +49,8 @@ MotionConflictMonitor::MotionConflictMonitor(const conflict::ConflictOptions& op
       propagated_detector_(options.propagated_chi2_threshold),
       landmark_detector_(rig, options),
       tracker_(options.enter_frames, options.exit_frames),
-      classifier_(options.selective_strikes) {}
+      classifier_(options.selective_strikes),
+      smoother_(smootherOptions(options)) {}
 
 void MotionConflictMonitor::reset() {
   history_.clear();
@@ -52,6 +61,27 @@ void MotionConflictMonitor::reset() {
   tracker_.reset();
   classifier_.clear();
   secondary_.end();
+  smoother_.cancel();
+}
+
+Timestamp MotionConflictMonitor::oldestTimeNeeded() const {
+  const Timestamp oldest = history_.empty() ? 0 : history_.front().t;
+  return smoother_.active() ? std::min(oldest, smoother_.startTime()) : oldest;
+}
+
+ConflictIntervalSmoother::Result MotionConflictMonitor::smoothInterval(const ImuBuffer& imu) {
+  if (history_.empty()) {
+    smoother_.cancel();
+    return {};
+  }
+  // The second half of the settling frames: vision has had the first half to take the velocity over.
+  std::vector<ConflictIntervalSmoother::SettledVelocity> settled;
+  const std::size_t n = std::min(history_.size(), static_cast<std::size_t>(std::max(1, options_.smoothing_settle_frames / 2)));
+  for (std::size_t i = history_.size() - n; i < history_.size(); ++i) settled.push_back({history_[i].t, history_[i].state.v});
+  auto res = smoother_.finish(imu, imu_noise_, gravity_, history_.back().state.p, settled);
+  if (res.applied)
+    for (auto& e : history_) e.state.p += res.shift;
+  return res;
 }
 
 bool MotionConflictMonitor::triangulate(const Eigen::Vector2d& n0, const Eigen::Vector2d& n1, double* depth) const {
@@ -243,6 +273,16 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
         moving_in_view >= options_.partial_min_fraction * static_cast<double>(cam0.size()))
       evidence = true;
   }
+  // A conflicting frame still moving keeps its interval open (see hold_min_secondary_speed_mps).
+  // Speed along the direction of the peak: the IMU-only estimate drifts sideways over a long ride.
+  if (imu_dominated_ && secondary_.valid()) {
+    const Eigen::Vector3d& v = secondary_.v_WS();
+    if (v.norm() > peak_secondary_velocity_.norm()) peak_secondary_velocity_ = v;
+    const double peak = peak_secondary_velocity_.norm();
+    const double along = peak > 0 ? v.dot(peak_secondary_velocity_) / peak : 0.0;
+    if (along >= options_.hold_min_secondary_speed_mps && along >= options_.hold_secondary_speed_fraction * peak)
+      evidence = true;
+  }
   pending_.evidence = evidence;
 
   const auto state = tracker_.update(t, evidence);
@@ -263,6 +303,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
 
   if (tracker_.justExited() && imu_dominated_) {
     imu_dominated_ = false;
+    smoother_.markExit();
     secondary_.end();
     classifier_.clear();
     // The frames of the interval carry the drifted inertial velocity, and vision needs a while to
@@ -285,6 +326,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
                             static_count < options_.auto_min_static_landmarks));
     if (want_imu) {
       imu_dominated_ = true;
+      peak_secondary_velocity_.setZero();
       // The state before the evidence run: the reference frame of its first frame.
       std::size_t first = history_.size();
       for (std::size_t i = 0; i < history_.size(); ++i)
@@ -307,6 +349,14 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
           d.rewind_t = start->t;
         }
         secondary_.begin(start->t, isometry(start->state.q, start->state.p));
+        // The conflict window opens at the same state, unless the last one is still settling:
+        // then both intervals are smoothed as one.
+        if (smoother_.exited()) {
+          smoother_.resumeInterval();
+        } else {
+          smoother_.begin(start->t, start->state.p, start->state.q, start->state.v, held_bias_);
+          for (std::size_t i = idx + 1; i < history_.size(); ++i) smoother_.addFrame(history_[i].t, history_[i].state.q);
+        }
         for (std::size_t i = idx + 1; i < history_.size(); ++i)
           secondary_.addVisionIncrement(history_[i].vision_increment, history_[i].vision_increment_valid);
       }
@@ -363,6 +413,7 @@ void MotionConflictMonitor::commit(const State& solved, ConflictReport* report) 
     report->q_WS = Eigen::Quaterniond(secondary_.T_WS().linear());
     report->v_WS = secondary_.v_WS();
   }
+  if (smoother_.active()) smoother_.addFrame(pending_.t, solved.q);
   history_.push_back(std::move(pending_));
   have_pending_ = false;
   ++frames_since_reset_;

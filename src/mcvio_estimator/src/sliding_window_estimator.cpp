@@ -335,6 +335,7 @@ EstimatorOutput SlidingWindowEstimator::addFrame(const FeatureFrame& input) {
   out.timings.covariance_ms = msSince(t_stage);
   fillState(&out);
   commitToMonitor(&out);
+  if (monitor_->smoothingReady()) smoothConflictWindow(&out);
   t_stage = Clock::now();
   marginalize();
   out.timings.marginalization_ms = msSince(t_stage);
@@ -970,6 +971,23 @@ void SlidingWindowEstimator::restartFrom(Frame& cur, const MotionConflictMonitor
   setStatePrior(cur, sigmas);
   spdlog::info("{}motion conflict at t={} ns: IMU-dominated from the state {:.2f} s back, biases held", kLog, cur.t,
                dt_since_estimate);
+}
+
+void SlidingWindowEstimator::smoothConflictWindow(EstimatorOutput* out) {
+  auto res = monitor_->smoothInterval(imu_);
+  if (!res.applied) {
+    spdlog::warn("{}{}", kLog, res.message);
+    return;
+  }
+  // A translation of the whole window: landmarks live in their anchor frames, and the prior keeps
+  // its information if its linearisation point moves along.
+  for (auto& f : frames_) Eigen::Map<Eigen::Vector3d>(f->pose.data()) += res.shift;
+  if (prior_)
+    for (auto& b : prior_->blocks)
+      if (b.kind == BlockKind::kPose) Eigen::Map<Eigen::Vector3d>(b.x_lin.data()) += res.shift;
+  out->p_WB += res.shift;
+  out->revised_poses = std::move(res.revisions);
+  spdlog::info("{}{}", kLog, res.message);
 }
 
 void SlidingWindowEstimator::setStatePrior(Frame& frame, const Eigen::Matrix<double, 15, 1>& sigmas) {

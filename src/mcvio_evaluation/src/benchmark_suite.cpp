@@ -71,6 +71,12 @@ BenchmarkModeRun runEstimator(const sim::FeatureSequence& seq, const std::string
     if (!out.frame_accepted || out.status != estimator::EstimatorStatus::kTracking) continue;
     if (!poses.empty() && out.t <= poses.back().t) continue;
     poses.push_back({out.t, out.p_WB, out.q_WB.normalized()});
+    // The conflict window re-estimated earlier frames: the run's trajectory is the final estimate.
+    for (const auto& rev : out.revised_poses) {
+      const auto it = std::lower_bound(poses.begin(), poses.end(), rev.t,
+                                       [](const StampedPose& a, Timestamp t) { return a.t < t; });
+      if (it != poses.end() && it->t == rev.t) *it = {rev.t, rev.p_WB, rev.q_WB.normalized()};
+    }
     if (out.conflict.secondary_valid) secondary.push_back({out.t, out.conflict.p_WS, out.conflict.q_WS.normalized()});
     run.cpu_ms.push_back(out.timings.cpu_total_ms);
     run.conflict_ms.push_back(out.timings.conflict_ms);

@@ -188,7 +188,8 @@ struct LoadedFrame {
 class RunRecorder {
  public:
   RunRecorder(const std::string& tum_path, std::size_t frames, const OfflineRunOptions& options, double data_seconds)
-      : tum_(tum_path),
+      : tum_path_(tum_path),
+        tum_(tum_path),
         conflict_(options.output_dir + "/conflict.csv"),
         secondary_(options.output_dir + "/secondary.tum"),
         bar_("run", frames, options.progress),
@@ -232,9 +233,15 @@ class RunRecorder {
       landmarks.add(e.num_landmarks);
       if (e.status == estimator::EstimatorStatus::kTracking && e.frame_accepted) {
         ++summary.estimated;
-        writeSeconds(tum_, e.t);
-        tum_ << ' ' << e.p_WB.x() << ' ' << e.p_WB.y() << ' ' << e.p_WB.z() << ' ' << e.q_WB.x()
-             << ' ' << e.q_WB.y() << ' ' << e.q_WB.z() << ' ' << e.q_WB.w() << '\n';
+        writePose(tum_, e.t, e.p_WB, e.q_WB);
+        poses_.push_back({e.t, e.p_WB, e.q_WB});
+        for (const auto& rev : e.revised_poses) {
+          const auto it = std::lower_bound(poses_.begin(), poses_.end(), rev.t,
+                                           [](const estimator::EstimatorOutput::PoseRevision& a, Timestamp t) { return a.t < t; });
+          if (it == poses_.end() || it->t != rev.t) continue;
+          *it = rev;
+          revised_ = true;
+        }
         const auto& c = e.conflict;
         conflict_ << e.t << ',' << estimator::toString(c.state) << ',' << c.propagated_chi2 << ','
                   << c.propagated_threshold << ',' << c.landmarks_tested << ',' << c.landmarks_inconsistent << ','
@@ -259,7 +266,22 @@ class RunRecorder {
     }
   }
 
-  void finish() { bar_.finish(); }
+  /// trajectory.tum was written frame by frame, as published. If the conflict window later
+  /// re-estimated earlier frames, that version moves to trajectory_online.tum and trajectory.tum
+  /// becomes the final estimate.
+  void finish() {
+    bar_.finish();
+    tum_.close();
+    if (!revised_) return;
+    const std::string online = std::filesystem::path(tum_path_).replace_filename("trajectory_online.tum").string();
+    std::filesystem::rename(tum_path_, online);
+    std::ofstream final_tum(tum_path_);
+    final_tum << "# t x y z qx qy qz qw  (pose of imu0 in world; t in seconds; final estimate, conflict windows smoothed;"
+                 " as published per frame: trajectory_online.tum)\n"
+              << std::setprecision(9) << std::fixed;
+    for (const auto& p : poses_) writePose(final_tum, p.t, p.p_WB, p.q_WB);
+    if (!final_tum) throw InputError("cannot write " + tum_path_);
+  }
 
   OfflineRunSummary summary;
   StageStats loader_ms, frontend_ms, backend_ms, features, stereo, landmarks, iterations;
@@ -268,7 +290,15 @@ class RunRecorder {
   std::map<std::string, std::size_t> skip_reasons;
 
  private:
+  static void writePose(std::ofstream& f, Timestamp t, const Eigen::Vector3d& p, const Eigen::Quaterniond& q) {
+    writeSeconds(f, t);
+    f << ' ' << p.x() << ' ' << p.y() << ' ' << p.z() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << q.w() << '\n';
+  }
+
+  std::string tum_path_;
   std::ofstream tum_, conflict_, secondary_;
+  std::vector<estimator::EstimatorOutput::PoseRevision> poses_;  ///< as in trajectory.tum, revisions applied
+  bool revised_ = false;
   ProgressBar bar_;
   std::function<void(std::size_t, const VioFrameResult&)> on_frame_;
   const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();

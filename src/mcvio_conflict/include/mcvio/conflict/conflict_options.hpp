@@ -90,6 +90,19 @@ struct ConflictOptions {
   /// How far before the first frame of evidence the rewind goes: a smooth onset (a cabin starting
   /// gently) moves vision away from the IMU before the detectors can tell.
   int rewind_frames = 40;
+  /// An IMU-dominated interval stays open while the conflicting frame (the secondary motion: the
+  /// cabin, the vehicle) still moves at least this fast [m/s] and at least this share of its peak
+  /// speed in the interval. The detectors only see acceleration once vision has taken over the
+  /// velocity, so a cabin cruising at steady speed would otherwise end the interval mid-ride.
+  double hold_min_secondary_speed_mps = 0.5;
+  double hold_secondary_speed_fraction = 0.5;
+  /// The conflict window (triple window): after an IMU-dominated interval, once vision has held
+  /// the velocity for smoothing_settle_frames, the interval is re-integrated with the one
+  /// accelerometer-bias correction that matches that velocity, and the window is moved onto the
+  /// corrected position. Corrections above smoothing_max_accel_bias_correction [m/s^2] are refused.
+  bool smoothing_enabled = true;
+  int smoothing_settle_frames = 20;
+  double smoothing_max_accel_bias_correction = 0.2;
 
   void validate() const;
   static ConflictOptions fromYaml(const YAML::Node& node, const std::string& context = "conflict options");

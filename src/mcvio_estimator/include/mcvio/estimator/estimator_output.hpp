@@ -1,6 +1,7 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -83,6 +84,15 @@ struct EstimatorOutput {
   int solver_iterations = 0;
   EstimatorTimings timings;
   ConflictReport conflict;
+  /// Earlier frames re-estimated in this frame (the conflict window smoothed after an
+  /// IMU-dominated interval; the last entry is this frame): position and orientation of imu0 in
+  /// world. Empty on most frames.
+  struct PoseRevision {
+    Timestamp t = 0;
+    Eigen::Vector3d p_WB = Eigen::Vector3d::Zero();
+    Eigen::Quaterniond q_WB = Eigen::Quaterniond::Identity();
+  };
+  std::vector<PoseRevision> revised_poses;
   std::string message;              ///< warnings about this frame's input, reset reasons
 };
 

@@ -16,6 +16,7 @@
 #include "mcvio/conflict/relative_pose_solver.hpp"
 #include "mcvio/conflict/secondary_motion_tracker.hpp"
 #include "mcvio/core/imu_noise.hpp"
+#include "mcvio/estimator/conflict_interval_smoother.hpp"
 #include "mcvio/estimator/estimator_output.hpp"
 #include "mcvio/estimator/imu_bias.hpp"
 #include "mcvio/estimator/imu_buffer.hpp"
@@ -75,8 +76,13 @@ class MotionConflictMonitor {
 
   bool isEliminated(std::uint64_t track_id) const { return classifier_.isMoving(track_id); }
   bool imuDominated() const { return imu_dominated_; }
-  /// Oldest time the monitor still needs IMU for.
-  Timestamp oldestTimeNeeded() const { return history_.empty() ? 0 : history_.front().t; }
+  /// Oldest time the monitor still needs IMU for (the conflict window's start while it is open).
+  Timestamp oldestTimeNeeded() const;
+  /// The conflict window after an IMU-dominated interval is ready to be smoothed (see
+  /// ConflictIntervalSmoother), with the state committed last as its settled end.
+  bool smoothingReady() const { return options_.smoothing_enabled && smoother_.ready(); }
+  /// Smooths it against the last committed state and moves the stored states by the shift.
+  ConflictIntervalSmoother::Result smoothInterval(const ImuBuffer& imu);
 
  private:
   struct Entry {
@@ -119,6 +125,8 @@ class MotionConflictMonitor {
   Entry pending_;            ///< frame k between process() and commit()
   bool have_pending_ = false;
   bool imu_dominated_ = false;
+  ConflictIntervalSmoother smoother_;
+  Eigen::Vector3d peak_secondary_velocity_ = Eigen::Vector3d::Zero();  ///< fastest in this IMU-dominated interval
   ImuBias held_bias_;
   ImuBias reference_bias_;
   bool have_reference_bias_ = false;

@@ -147,6 +147,8 @@ class SlidingWindowEstimator {
   void restartFrom(Frame& cur, const MotionConflictMonitor::State& state, double dt_since_estimate);
   void setStatePrior(Frame& frame, const Eigen::Matrix<double, 15, 1>& sigmas);
   void applyConflictDecision(const MotionConflictMonitor::Decision& decision, Frame& cur);
+  /// The conflict window after an IMU-dominated interval: re-estimates it and moves the window.
+  void smoothConflictWindow(EstimatorOutput* out);
   void commitToMonitor(EstimatorOutput* out);
   void computeCovariance(EstimatorOutput* out);
   void marginalize();

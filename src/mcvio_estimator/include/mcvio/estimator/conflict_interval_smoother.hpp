@@ -1,0 +1,90 @@
+#pragma once
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "mcvio/core/imu_noise.hpp"
+#include "mcvio/core/time.hpp"
+#include "mcvio/estimator/estimator_output.hpp"
+#include "mcvio/estimator/imu_bias.hpp"
+#include "mcvio/estimator/imu_buffer.hpp"
+
+namespace mcvio::estimator {
+
+/// The conflict window of the triple-window optimisation (dissertation ch. 6). Inside an
+/// IMU-dominated interval the position comes from the IMU alone with the biases held at their
+/// pre-conflict estimate, so any error of that estimate grows into a velocity error, then a
+/// position error. Once the interval has ended and vision has re-established the velocity, the
+/// interval is re-estimated from its start state: the IMU is integrated over every frame of the
+/// interval (with the estimator's orientations, which vision kept), and one accelerometer-bias
+/// correction is solved so that the inertial velocity at the end equals the visual one. The
+/// result is the corrected position of each frame and the shift that brings the live window onto
+/// the corrected end position.
+class ConflictIntervalSmoother {
+ public:
+  struct Options {
+    /// Frames after the interval ends before the smoothing runs: vision needs them to correct
+    /// the velocity the interval carried out.
+    int settle_frames = 20;
+    /// A larger correction [m/s^2] means the end velocity is not the world's (the interval
+    /// closed while the conflicting frame still moved): nothing is changed.
+    double max_accel_bias_correction = 0.2;
+  };
+
+  struct Result {
+    bool applied = false;
+    std::string message;                                          ///< why not, or what was done
+    Eigen::Vector3d accel_bias_correction = Eigen::Vector3d::Zero();  ///< body frame [m/s^2]
+    Eigen::Vector3d shift = Eigen::Vector3d::Zero();  ///< corrected minus estimated position at the end [m]
+    std::vector<EstimatorOutput::PoseRevision> revisions;  ///< every frame after the start, the last one included
+  };
+
+  explicit ConflictIntervalSmoother(const Options& options) : options_(options) {}
+
+  /// Opens the window at the last state before the conflict (the biases are the held ones).
+  void begin(Timestamp t0, const Eigen::Vector3d& p0, const Eigen::Quaterniond& q0, const Eigen::Vector3d& v0,
+             const ImuBias& bias);
+  /// A frame of the interval (or after it, while settling) with its estimated orientation.
+  void addFrame(Timestamp t, const Eigen::Quaterniond& q);
+  /// The IMU-dominated interval ended at the last added frame.
+  void markExit();
+  /// A new IMU-dominated interval opened before the smoothing ran: the window goes on.
+  void resumeInterval() { exited_ = false; }
+  void cancel() { active_ = false; }
+
+  bool active() const { return active_; }
+  bool exited() const { return active_ && exited_; }
+  /// Exited, and settle_frames frames have been added since.
+  bool ready() const;
+  Timestamp startTime() const { return t0_; }
+
+  /// The estimator's velocity at a frame after the exit (vision back in charge).
+  struct SettledVelocity {
+    Timestamp t = 0;
+    Eigen::Vector3d v = Eigen::Vector3d::Zero();
+  };
+  /// Re-estimates the window. `settled` are the estimator's velocities at frames after the exit
+  /// (the correction fits them all, in the least-squares sense: one visual velocity is too noisy
+  /// for an interval of many seconds); `p_end` is its position at the last added frame. Closes
+  /// the window whatever the outcome.
+  Result finish(const ImuBuffer& imu, const ImuNoiseParams& noise, const Eigen::Vector3d& gravity,
+                const Eigen::Vector3d& p_end, const std::vector<SettledVelocity>& settled);
+
+ private:
+  struct Node {
+    Timestamp t = 0;
+    Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+  };
+  Options options_;
+  bool active_ = false, exited_ = false;
+  Timestamp t0_ = 0;
+  Eigen::Vector3d p0_ = Eigen::Vector3d::Zero(), v0_ = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond q0_ = Eigen::Quaterniond::Identity();
+  ImuBias bias_;
+  std::vector<Node> frames_;
+  std::size_t exit_index_ = 0;  ///< frames_.size() when the interval ended
+};
+
+}  // namespace mcvio::estimator

@@ -1,0 +1,115 @@
+#include "mcvio/estimator/conflict_interval_smoother.hpp"
+
+#include <sstream>
+
+#include <Eigen/Dense>
+
+#include "mcvio/estimator/imu_preintegrator.hpp"
+
+namespace mcvio::estimator {
+
+void ConflictIntervalSmoother::begin(Timestamp t0, const Eigen::Vector3d& p0, const Eigen::Quaterniond& q0,
+                                     const Eigen::Vector3d& v0, const ImuBias& bias) {
+  active_ = true;
+  exited_ = false;
+  t0_ = t0;
+  p0_ = p0;
+  q0_ = q0.normalized();
+  v0_ = v0;
+  bias_ = bias;
+  frames_.clear();
+  exit_index_ = 0;
+}
+
+void ConflictIntervalSmoother::addFrame(Timestamp t, const Eigen::Quaterniond& q) {
+  if (!active_ || t <= (frames_.empty() ? t0_ : frames_.back().t)) return;
+  frames_.push_back({t, q.normalized()});
+}
+
+void ConflictIntervalSmoother::markExit() {
+  if (!active_) return;
+  exited_ = true;
+  exit_index_ = frames_.size();
+}
+
+bool ConflictIntervalSmoother::ready() const {
+  return exited() && frames_.size() >= exit_index_ + static_cast<std::size_t>(options_.settle_frames);
+}
+
+ConflictIntervalSmoother::Result ConflictIntervalSmoother::finish(const ImuBuffer& imu, const ImuNoiseParams& noise,
+                                                                  const Eigen::Vector3d& gravity,
+                                                                  const Eigen::Vector3d& p_end,
+                                                                  const std::vector<SettledVelocity>& settled) {
+  Result res;
+  active_ = false;
+  if (frames_.empty()) {
+    res.message = "no frames in the conflict window";
+    return res;
+  }
+  // Inertial propagation over the window and its Jacobians with respect to an accelerometer-bias
+  // correction (the same for the whole window), frame by frame.
+  Eigen::Vector3d p = p0_, v = v0_;
+  Eigen::Matrix3d Jp = Eigen::Matrix3d::Zero(), Jv = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d R = q0_.toRotationMatrix();
+  Timestamp t = t0_;
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<Eigen::Matrix3d> jacobians;
+  positions.reserve(frames_.size());
+  jacobians.reserve(frames_.size());
+  std::vector<ImuSample> samples;
+  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+  std::size_t fitted = 0;
+  for (const auto& f : frames_) {
+    if (!imu.extract(t, f.t, &samples) || samples.size() < 2) {
+      std::ostringstream os;
+      os << "no IMU between " << t << " and " << f.t << " ns in the conflict window";
+      res.message = os.str();
+      return res;
+    }
+    ImuPreintegrator pre(bias_, noise);
+    for (const auto& s : samples) pre.integrate(s);
+    const double dt = pre.deltaTime();
+    p += v * dt + 0.5 * gravity * dt * dt + R * pre.deltaP();
+    Jp += Jv * dt + R * pre.dP_dba();
+    v += gravity * dt + R * pre.deltaV();
+    Jv += R * pre.dV_dba();
+    positions.push_back(p);
+    jacobians.push_back(Jp);
+    for (const auto& sv : settled)
+      if (sv.t == f.t) {
+        normal += Jv.transpose() * Jv;
+        rhs += Jv.transpose() * (sv.v - v);
+        ++fitted;
+      }
+    R = f.q.toRotationMatrix();
+    t = f.t;
+  }
+  // The bias correction that makes the inertial velocities after the exit the visual ones.
+  const Eigen::FullPivLU<Eigen::Matrix3d> lu(normal);
+  if (fitted == 0 || !lu.isInvertible()) {
+    res.message = "no settled velocity to fit the conflict window to";
+    return res;
+  }
+  const Eigen::Vector3d db = lu.solve(rhs);
+  if (!db.allFinite() || db.norm() > options_.max_accel_bias_correction) {
+    std::ostringstream os;
+    os << "accelerometer-bias correction of " << db.norm() << " m/s^2 exceeds max_accel_bias_correction "
+       << options_.max_accel_bias_correction << " (the end velocity is not the world's); window left as estimated";
+    res.message = os.str();
+    return res;
+  }
+  res.revisions.reserve(frames_.size());
+  for (std::size_t i = 0; i < frames_.size(); ++i)
+    res.revisions.push_back({frames_[i].t, positions[i] + jacobians[i] * db, frames_[i].q});
+  res.accel_bias_correction = db;
+  res.shift = res.revisions.back().p_WB - p_end;
+  res.applied = res.shift.allFinite();
+  std::ostringstream os;
+  os << "conflict window of " << toSeconds(frames_.back().t - t0_) << " s smoothed: accelerometer-bias correction "
+     << db.norm() << " m/s^2, end position moved " << res.shift.norm() << " m";
+  res.message = os.str();
+  return res;
+}
+
+}  // namespace mcvio::estimator

@@ -1,0 +1,163 @@
+// Unit tests of ConflictIntervalSmoother (the conflict window) on a constructed ride: exact IMU
+// samples of a known motion, measured with an accelerometer bias the held estimate does not know.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "mcvio/estimator/conflict_interval_smoother.hpp"
+
+using namespace mcvio;
+using estimator::ConflictIntervalSmoother;
+using estimator::ImuBias;
+using estimator::ImuBuffer;
+
+namespace {
+
+constexpr Timestamp kStart = 1'000'000'000;
+constexpr Timestamp kFramePeriod = 50'000'000;  // 20 Hz
+constexpr Timestamp kImuPeriod = 5'000'000;     // 200 Hz
+const Eigen::Vector3d kGravity(0, 0, -9.81);
+const Eigen::Vector3d kTrueAccelBias(0.03, -0.02, 0.01);
+
+/// No rotation; constant walk along x plus a 10 s cycloid ride of 8 m along z from 1 s.
+struct Motion {
+  static constexpr double kRideStart = 1.0, kRideDuration = 10.0, kRideTravel = 8.0;
+  static Eigen::Vector3d accel(double s) {
+    const double u = (s - kRideStart) / kRideDuration;
+    if (u <= 0 || u >= 1) return Eigen::Vector3d::Zero();
+    return {0, 0, kRideTravel / (kRideDuration * kRideDuration) * 2 * EIGEN_PI * std::sin(2 * EIGEN_PI * u)};
+  }
+  static Eigen::Vector3d velocity(double s) {
+    const double u = std::clamp((s - kRideStart) / kRideDuration, 0.0, 1.0);
+    return {0.4, 0, kRideTravel / kRideDuration * (1 - std::cos(2 * EIGEN_PI * u)) * (u > 0 && u < 1 ? 1 : 0)};
+  }
+  static Eigen::Vector3d position(double s) {
+    const double u = std::clamp((s - kRideStart) / kRideDuration, 0.0, 1.0);
+    return {0.4 * s, 0, kRideTravel * (u - std::sin(2 * EIGEN_PI * u) / (2 * EIGEN_PI))};
+  }
+};
+
+double seconds(Timestamp t) { return toSeconds(t - kStart); }
+
+ImuBuffer imuFor(double duration_s) {
+  ImuBuffer imu;
+  for (Timestamp t = kStart; seconds(t) <= duration_s + 1e-9; t += kImuPeriod) {
+    ImuSample s;
+    s.t = t;
+    s.accel = Motion::accel(seconds(t)) - kGravity + kTrueAccelBias;  // body = world orientation
+    EXPECT_EQ(imu.add(s, 0.1), ImuBuffer::AddResult::kAccepted);
+  }
+  return imu;
+}
+
+ConflictIntervalSmoother::Options options() {
+  ConflictIntervalSmoother::Options o;
+  o.settle_frames = 20;
+  o.max_accel_bias_correction = 0.2;
+  return o;
+}
+
+/// Opens the window at kStart with the true state and the held bias 0, adds frames up to
+/// interval_s (then the exit) and 20 more.
+Timestamp fillWindow(ConflictIntervalSmoother* s, double interval_s) {
+  s->begin(kStart, Motion::position(0), Eigen::Quaterniond::Identity(), Motion::velocity(0), ImuBias{});
+  Timestamp t = kStart;
+  for (t = kStart + kFramePeriod; seconds(t) <= interval_s + 1e-9; t += kFramePeriod) {
+    EXPECT_FALSE(s->ready());
+    s->addFrame(t, Eigen::Quaterniond::Identity());
+  }
+  s->markExit();
+  for (int i = 0; i < 20; ++i, t += kFramePeriod) {
+    EXPECT_FALSE(s->ready());
+    s->addFrame(t, Eigen::Quaterniond::Identity());
+  }
+  EXPECT_TRUE(s->ready());
+  return t - kFramePeriod;
+}
+
+std::vector<ConflictIntervalSmoother::SettledVelocity> trueVelocities(Timestamp last, int n) {
+  std::vector<ConflictIntervalSmoother::SettledVelocity> v;
+  for (int i = n - 1; i >= 0; --i) {
+    const Timestamp t = last - i * kFramePeriod;
+    v.push_back({t, Motion::velocity(seconds(t))});
+  }
+  return v;
+}
+
+}  // namespace
+
+TEST(ConflictIntervalSmoother, RecoversTheAccelerometerBiasAndThePositions) {
+  ConflictIntervalSmoother s(options());
+  const Timestamp last = fillWindow(&s, 12.0);
+  const ImuBuffer imu = imuFor(seconds(last) + 0.1);
+  // The live estimate drifted: wherever it is, the shift brings it onto the corrected position.
+  const Eigen::Vector3d p_end = Motion::position(seconds(last)) + Eigen::Vector3d(1.5, -2.0, 0.7);
+  const auto res = s.finish(imu, ImuNoiseParams{}, kGravity, p_end, trueVelocities(last, 10));
+  ASSERT_TRUE(res.applied) << res.message;
+  EXPECT_FALSE(s.active());
+  EXPECT_LT((res.accel_bias_correction - kTrueAccelBias).norm(), 1e-4) << res.accel_bias_correction.transpose();
+  ASSERT_EQ(res.revisions.size(), 260u);  // 240 frames of the interval, 20 settling
+  double worst = 0;
+  for (const auto& r : res.revisions) worst = std::max(worst, (r.p_WB - Motion::position(seconds(r.t))).norm());
+  EXPECT_LT(worst, 1e-3) << "worst corrected position error [m]";
+  EXPECT_LT((res.shift - Eigen::Vector3d(-1.5, 2.0, -0.7)).norm(), 1e-3) << res.shift.transpose();
+  // Without the correction the held bias would have left the end 0.5 * |b| * T^2 = 2.9 m off.
+  EXPECT_NE(res.message.find("smoothed"), std::string::npos) << res.message;
+}
+
+TEST(ConflictIntervalSmoother, RefusesAnEndVelocityThatIsNotTheWorlds) {
+  // The interval closed while the cabin still moved at 2 m/s: vision's velocity is the cabin's
+  // (a 0.3 m/s^2 correction over the 7 s window).
+  ConflictIntervalSmoother s(options());
+  const Timestamp last = fillWindow(&s, 6.0);
+  const ImuBuffer imu = imuFor(seconds(last) + 0.1);
+  auto settled = trueVelocities(last, 10);
+  for (auto& v : settled) v.v.z() -= 2.0;
+  const auto res = s.finish(imu, ImuNoiseParams{}, kGravity, Eigen::Vector3d::Zero(), settled);
+  EXPECT_FALSE(res.applied);
+  EXPECT_TRUE(res.revisions.empty());
+  EXPECT_NE(res.message.find("max_accel_bias_correction"), std::string::npos) << res.message;
+  EXPECT_FALSE(s.active());
+}
+
+TEST(ConflictIntervalSmoother, MissingImuOrVelocitiesIsAClearRefusal) {
+  ConflictIntervalSmoother s(options());
+  const Timestamp last = fillWindow(&s, 6.0);
+  const ImuBuffer short_imu = imuFor(3.0);
+  auto res = s.finish(short_imu, ImuNoiseParams{}, kGravity, Eigen::Vector3d::Zero(), trueVelocities(last, 10));
+  EXPECT_FALSE(res.applied);
+  EXPECT_NE(res.message.find("no IMU"), std::string::npos) << res.message;
+
+  fillWindow(&s, 6.0);
+  res = s.finish(imuFor(8.0), ImuNoiseParams{}, kGravity, Eigen::Vector3d::Zero(), {});
+  EXPECT_FALSE(res.applied);
+  EXPECT_NE(res.message.find("no settled velocity"), std::string::npos) << res.message;
+}
+
+TEST(ConflictIntervalSmoother, ASecondIntervalWhileSettlingExtendsTheWindow) {
+  ConflictIntervalSmoother s(options());
+  s.begin(kStart, Motion::position(0), Eigen::Quaterniond::Identity(), Motion::velocity(0), ImuBias{});
+  Timestamp t = kStart + kFramePeriod;
+  for (int i = 0; i < 40; ++i, t += kFramePeriod) s.addFrame(t, Eigen::Quaterniond::Identity());
+  s.markExit();
+  for (int i = 0; i < 5; ++i, t += kFramePeriod) s.addFrame(t, Eigen::Quaterniond::Identity());
+  EXPECT_TRUE(s.exited());
+  s.resumeInterval();
+  EXPECT_FALSE(s.exited());
+  for (int i = 0; i < 40; ++i, t += kFramePeriod) s.addFrame(t, Eigen::Quaterniond::Identity());
+  EXPECT_FALSE(s.ready());
+  s.markExit();
+  for (int i = 0; i < 19; ++i, t += kFramePeriod) s.addFrame(t, Eigen::Quaterniond::Identity());
+  EXPECT_FALSE(s.ready());
+  s.addFrame(t, Eigen::Quaterniond::Identity());
+  EXPECT_TRUE(s.ready());
+  EXPECT_EQ(s.startTime(), kStart);
+  // Frames out of order are ignored, never integrated backwards.
+  s.addFrame(kStart, Eigen::Quaterniond::Identity());
+  const auto res = s.finish(imuFor(seconds(t) + 0.1), ImuNoiseParams{}, kGravity, Motion::position(seconds(t)),
+                            trueVelocities(t, 10));
+  ASSERT_TRUE(res.applied) << res.message;
+  EXPECT_EQ(res.revisions.size(), 105u);
+}
