@@ -11,7 +11,9 @@ void addRunCommand(CLI::App& app, CommandContext&) {
   auto* cmd = app.add_subcommand(
       "run",
       "Run the whole VIO (frontend + sliding-window estimator) over a EuRoC folder without DDS,\n"
-      "deterministically. Writes OUT/trajectory.tum (t x y z qx qy qz qw: imu0 in world, t in s) and\n"
+      "deterministically. Writes OUT/trajectory.tum (t x y z qx qy qz qw: imu0 in world, t in s; the\n"
+      "final estimate: when a conflict window re-estimates earlier frames after an IMU-dominated\n"
+      "interval, the per-frame output is kept in OUT/trajectory_online.tum) and\n"
       "OUT/conflict.csv (per-frame motion-conflict statistics), OUT/secondary.tum (the conflicting frame,\n"
       "e.g. an elevator cabin, in the world while it is tracked) and OUT/stats.json (per-stage CPU time,\n"
       "features, keyframes, resets, peak memory).\n"
