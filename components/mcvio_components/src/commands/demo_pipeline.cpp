@@ -41,6 +41,7 @@ namespace ev = mcvio::evaluation;
 using Clock = std::chrono::steady_clock;
 using Odometry = nav_msgs::msg::dds_::Odometry_;
 using MotionConflict = mcvio_msgs::msg::dds_::MotionConflict_;
+using Path = nav_msgs::msg::dds_::Path_;
 
 namespace {
 
@@ -66,12 +67,13 @@ Timestamp nanosOf(const builtin_interfaces::msg::dds_::Time_& t) {
   return static_cast<Timestamp>(t.sec()) * 1000000000 + t.nanosec();
 }
 
-void writePose(std::ostream& out, const Odometry& o) {
-  const auto& p = o.pose().pose();
-  writeSeconds(out, components::stampOf(o.header()));
+void writePose(std::ostream& out, Timestamp t, const geometry_msgs::msg::dds_::Pose_& p) {
+  writeSeconds(out, t);
   out << ' ' << p.position().x() << ' ' << p.position().y() << ' ' << p.position().z() << ' ' << p.orientation().x()
       << ' ' << p.orientation().y() << ' ' << p.orientation().z() << ' ' << p.orientation().w() << '\n';
 }
+
+void writePose(std::ostream& out, const Odometry& o) { writePose(out, components::stampOf(o.header()), o.pose().pose()); }
 
 const char* stateName(std::uint8_t state) {
   switch (state) {
@@ -210,6 +212,7 @@ void DemoPipeline::runOverDds(const Sequence& s, SequenceResult& r) const {
   std::mutex m;
   std::vector<Odometry> odometry, secondary;
   std::vector<MotionConflict> conflicts;
+  Path path;  // the newest: the final trajectory, conflict windows revised
 
   // The recorder has a participant of its own (it must not share typed registrations).
   dds::GraphMonitor monitor;
@@ -231,6 +234,10 @@ void DemoPipeline::runOverDds(const Sequence& s, SequenceResult& r) const {
   auto conflict_sub = listener->createSubscription<MotionConflict>("/mcvio/conflict", lossless, [&](const MotionConflict& c) {
     std::lock_guard<std::mutex> lock(m);
     conflicts.push_back(c);
+  });
+  auto path_sub = listener->createSubscription<Path>("/mcvio/path", dds::QosProfile::transientLocal(1), [&](const Path& p) {
+    std::lock_guard<std::mutex> lock(m);
+    path = p;
   });
   auto secondary_sub = listener->createSubscription<Odometry>("/mcvio/secondary_odometry", lossless, [&](const Odometry& o) {
     std::lock_guard<std::mutex> lock(m);
@@ -302,6 +309,15 @@ void DemoPipeline::runOverDds(const Sequence& s, SequenceResult& r) const {
       [&] { std::lock_guard<std::mutex> lock(m); return odometry.size() >= stats.poses_published && conflicts.size() >= stats.poses_published; },
       [&] { std::lock_guard<std::mutex> lock(m); return odometry.size() + conflicts.size(); }, std::chrono::seconds(30),
       "the last poses arrived");
+  // The path of the last frame (keep-last 1: only the newest is sure to arrive); without it the
+  // per-frame odometry stands in below.
+  for (const auto deadline = Clock::now() + std::chrono::seconds(5); Clock::now() < deadline;) {
+    {
+      std::lock_guard<std::mutex> lock(m);
+      if (odometry.empty() || components::stampOf(path.header()) == components::stampOf(odometry.back().header())) break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
   r.dds_s = secondsSince(t0);
   // Let the recorder drain what is still on the wire, then close the bag.
   for (std::size_t last = recorder.messagesWritten(), n = 0; n < 100; ++n) {
@@ -315,10 +331,23 @@ void DemoPipeline::runOverDds(const Sequence& s, SequenceResult& r) const {
 
   std::lock_guard<std::mutex> lock(m);
   r.mcvio_poses = odometry.size();
-  std::ofstream tum(s.mcvio_dir / "trajectory.tum"), csv(s.mcvio_dir / "conflict.csv"), sec(s.mcvio_dir / "secondary.tum");
-  if (!tum || !csv || !sec) throw InputError("cannot write into " + s.mcvio_dir.string());
-  tum << "# t x y z qx qy qz qw  (pose of imu0 in world; t in seconds)\n" << std::setprecision(9) << std::fixed;
-  for (const auto& o : odometry) writePose(tum, o);
+  std::ofstream tum(s.mcvio_dir / "trajectory.tum"), online(s.mcvio_dir / "trajectory_online.tum"),
+      csv(s.mcvio_dir / "conflict.csv"), sec(s.mcvio_dir / "secondary.tum");
+  if (!tum || !online || !csv || !sec) throw InputError("cannot write into " + s.mcvio_dir.string());
+  // As `mcvio run`: trajectory.tum is the final estimate (the last /mcvio/path, where conflict
+  // windows revised earlier poses), trajectory_online.tum what /mcvio/odometry said per frame.
+  online << "# t x y z qx qy qz qw  (pose of imu0 in world; t in seconds; /mcvio/odometry per frame)\n"
+         << std::setprecision(9) << std::fixed;
+  for (const auto& o : odometry) writePose(online, o);
+  tum << "# t x y z qx qy qz qw  (pose of imu0 in world; t in seconds; final estimate, the last /mcvio/path)\n"
+      << std::setprecision(9) << std::fixed;
+  if (path.poses().size() == odometry.size()) {
+    for (const auto& ps : path.poses()) writePose(tum, components::stampOf(ps.header()), ps.pose());
+  } else {
+    std::cerr << "mcvio demo: warning: the last /mcvio/path holds " << path.poses().size() << " poses, /mcvio/odometry "
+              << odometry.size() << "; trajectory.tum is the per-frame odometry\n";
+    for (const auto& o : odometry) writePose(tum, o);
+  }
   csv << "timestamp_ns,state,propagated_chi2,propagated_threshold,landmarks_tested,landmarks_inconsistent,"
          "inconsistent_fraction,coherence,interval_start_ns,resolution_mode\n";
   for (const auto& c : conflicts) {
