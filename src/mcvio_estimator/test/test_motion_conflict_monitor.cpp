@@ -415,3 +415,32 @@ TEST(MotionConflictMonitor, HeldBiasComesFromASettledEstimateNotATransient) {
   ASSERT_TRUE(d.rewind);
   EXPECT_LT((d.rewind_state.v - sc.traj.velocity(frameSeconds(entry))).norm(), 1e-3);
 }
+
+TEST(MotionConflictMonitor, ACabinCruisingAtSteadySpeedKeepsItsIntervalOpen) {
+  // A 1 s pulse of 3 m/s^2 peak, then the cabin cruises at 1.5 m/s: no acceleration left for the
+  // detectors, but the secondary motion (the cabin in the world) still moves.
+  Scenario sc = cabin(80, kCabinFrame);
+  sc.traj.pulse_peak = 3.0;
+  const int frames_total = kCabinFrame + 160;
+  conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kImu);
+  const auto held = run(sc, o, frames_total);
+  const int entry = firstFrame(held, [](const Frame& f) { return f.decision.imu_dominated; });
+  ASSERT_GT(entry, kCabinFrame);
+  ASSERT_LE(entry, kCabinFrame + kMaxCabinEntryDelay);
+  for (int k = entry; k < frames_total; ++k) {
+    EXPECT_TRUE(held[k].decision.imu_dominated) << "frame " << k;
+    EXPECT_TRUE(inConflict(held[k])) << "frame " << k;
+  }
+  // The cabin's speed is what holds it: its estimate is the cruise speed.
+  const auto& last = held.back().decision.report;
+  ASSERT_TRUE(last.secondary_valid);
+  EXPECT_NEAR(last.v_WS.z(), 1.5, 0.05);
+
+  // Without the hold the interval ends mid-cruise, once the acceleration test is satisfied.
+  o.hold_min_secondary_speed_mps = 1e9;
+  const auto released = run(sc, o, frames_total);
+  const int exit = firstFrame(released, [&](const Frame& f) {
+    return &f - released.data() > entry && !f.decision.imu_dominated;
+  });
+  EXPECT_GT(exit, entry) << "the interval should close while the cabin cruises";
+}
