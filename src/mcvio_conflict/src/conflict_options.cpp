@@ -73,8 +73,8 @@ void ConflictOptions::validate() const {
           "must be in [0, 1]", hold_secondary_speed_fraction);
   require(smoothing_settle_frames >= 1 && smoothing_settle_frames <= 400, "smoothing_settle_frames", "must be in [1, 400]",
           smoothing_settle_frames);
-  require(smoothing_max_accel_bias_correction > 0, "smoothing_max_accel_bias_correction", "must be > 0",
-          smoothing_max_accel_bias_correction);
+  require(smoothing_max_acceleration_correction > 0, "smoothing_max_acceleration_correction", "must be > 0",
+          smoothing_max_acceleration_correction);
   require(auto_split_fraction > 0 && auto_split_fraction <= 1, "auto_split_fraction", "must be in (0, 1]",
           auto_split_fraction);
   require(selective_strikes >= 1, "selective_strikes", "must be >= 1", selective_strikes);
@@ -134,7 +134,7 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("hold_secondary_speed_fraction", &o.hold_secondary_speed_fraction);
   read("smoothing_enabled", &o.smoothing_enabled);
   read("smoothing_settle_frames", &o.smoothing_settle_frames);
-  read("smoothing_max_accel_bias_correction", &o.smoothing_max_accel_bias_correction);
+  read("smoothing_max_acceleration_correction", &o.smoothing_max_acceleration_correction);
   for (const auto& kv : node) {
     const std::string key = kv.first.as<std::string>();
     if (known.count(key) == 0) throw InputError(context + ": unknown conflict option '" + key + "'");

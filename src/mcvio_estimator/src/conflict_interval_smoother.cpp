@@ -46,8 +46,8 @@ ConflictIntervalSmoother::Result ConflictIntervalSmoother::finish(const ImuBuffe
     res.message = "no frames in the conflict window";
     return res;
   }
-  // Inertial propagation over the window and its Jacobians with respect to an accelerometer-bias
-  // correction (the same for the whole window), frame by frame.
+  // Inertial propagation over the window, and the Jacobians of velocity and position with respect
+  // to one acceleration correction in the world frame, constant over the window.
   Eigen::Vector3d p = p0_, v = v0_;
   Eigen::Matrix3d Jp = Eigen::Matrix3d::Zero(), Jv = Eigen::Matrix3d::Zero();
   Eigen::Matrix3d R = q0_.toRotationMatrix();
@@ -71,9 +71,9 @@ ConflictIntervalSmoother::Result ConflictIntervalSmoother::finish(const ImuBuffe
     for (const auto& s : samples) pre.integrate(s);
     const double dt = pre.deltaTime();
     p += v * dt + 0.5 * gravity * dt * dt + R * pre.deltaP();
-    Jp += Jv * dt + R * pre.dP_dba();
+    Jp += Jv * dt + 0.5 * dt * dt * Eigen::Matrix3d::Identity();
+    Jv += dt * Eigen::Matrix3d::Identity();
     v += gravity * dt + R * pre.deltaV();
-    Jv += R * pre.dV_dba();
     positions.push_back(p);
     jacobians.push_back(Jp);
     for (const auto& sv : settled)
@@ -85,28 +85,28 @@ ConflictIntervalSmoother::Result ConflictIntervalSmoother::finish(const ImuBuffe
     R = f.q.toRotationMatrix();
     t = f.t;
   }
-  // The bias correction that makes the inertial velocities after the exit the visual ones.
+  // The correction that makes the inertial velocities after the exit the visual ones.
   const Eigen::FullPivLU<Eigen::Matrix3d> lu(normal);
   if (fitted == 0 || !lu.isInvertible()) {
     res.message = "no settled velocity to fit the conflict window to";
     return res;
   }
   const Eigen::Vector3d db = lu.solve(rhs);
-  if (!db.allFinite() || db.norm() > options_.max_accel_bias_correction) {
+  if (!db.allFinite() || db.norm() > options_.max_acceleration_correction) {
     std::ostringstream os;
-    os << "accelerometer-bias correction of " << db.norm() << " m/s^2 exceeds max_accel_bias_correction "
-       << options_.max_accel_bias_correction << " (the end velocity is not the world's); window left as estimated";
+    os << "acceleration correction of " << db.norm() << " m/s^2 exceeds smoothing_max_acceleration_correction "
+       << options_.max_acceleration_correction << " (the end velocity is not the world's); window left as estimated";
     res.message = os.str();
     return res;
   }
   res.revisions.reserve(frames_.size());
   for (std::size_t i = 0; i < frames_.size(); ++i)
     res.revisions.push_back({frames_[i].t, positions[i] + jacobians[i] * db, frames_[i].q});
-  res.accel_bias_correction = db;
+  res.acceleration_correction = db;
   res.shift = res.revisions.back().p_WB - p_end;
   res.applied = res.shift.allFinite();
   std::ostringstream os;
-  os << "conflict window of " << toSeconds(frames_.back().t - t0_) << " s smoothed: accelerometer-bias correction "
+  os << "conflict window of " << toSeconds(frames_.back().t - t0_) << " s smoothed: acceleration correction "
      << db.norm() << " m/s^2, end position moved " << res.shift.norm() << " m";
   res.message = os.str();
   return res;

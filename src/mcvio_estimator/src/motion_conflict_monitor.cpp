@@ -22,7 +22,7 @@ conflict::RelativePoseSolver::Options solverOptions(const conflict::ConflictOpti
 ConflictIntervalSmoother::Options smootherOptions(const conflict::ConflictOptions& o) {
   ConflictIntervalSmoother::Options s;
   s.settle_frames = o.smoothing_settle_frames;
-  s.max_accel_bias_correction = o.smoothing_max_accel_bias_correction;
+  s.max_acceleration_correction = o.smoothing_max_acceleration_correction;
   return s;
 }
 

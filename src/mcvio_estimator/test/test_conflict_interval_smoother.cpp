@@ -55,7 +55,7 @@ ImuBuffer imuFor(double duration_s) {
 ConflictIntervalSmoother::Options options() {
   ConflictIntervalSmoother::Options o;
   o.settle_frames = 20;
-  o.max_accel_bias_correction = 0.2;
+  o.max_acceleration_correction = 0.2;
   return o;
 }
 
@@ -88,7 +88,7 @@ std::vector<ConflictIntervalSmoother::SettledVelocity> trueVelocities(Timestamp 
 
 }  // namespace
 
-TEST(ConflictIntervalSmoother, RecoversTheAccelerometerBiasAndThePositions) {
+TEST(ConflictIntervalSmoother, RecoversTheAccelerationErrorAndThePositions) {
   ConflictIntervalSmoother s(options());
   const Timestamp last = fillWindow(&s, 12.0);
   const ImuBuffer imu = imuFor(seconds(last) + 0.1);
@@ -97,7 +97,8 @@ TEST(ConflictIntervalSmoother, RecoversTheAccelerometerBiasAndThePositions) {
   const auto res = s.finish(imu, ImuNoiseParams{}, kGravity, p_end, trueVelocities(last, 10));
   ASSERT_TRUE(res.applied) << res.message;
   EXPECT_FALSE(s.active());
-  EXPECT_LT((res.accel_bias_correction - kTrueAccelBias).norm(), 1e-4) << res.accel_bias_correction.transpose();
+  // The body frame is the world's here: the correction removes the unknown bias.
+  EXPECT_LT((res.acceleration_correction + kTrueAccelBias).norm(), 1e-4) << res.acceleration_correction.transpose();
   ASSERT_EQ(res.revisions.size(), 260u);  // 240 frames of the interval, 20 settling
   double worst = 0;
   for (const auto& r : res.revisions) worst = std::max(worst, (r.p_WB - Motion::position(seconds(r.t))).norm());
@@ -118,7 +119,7 @@ TEST(ConflictIntervalSmoother, RefusesAnEndVelocityThatIsNotTheWorlds) {
   const auto res = s.finish(imu, ImuNoiseParams{}, kGravity, Eigen::Vector3d::Zero(), settled);
   EXPECT_FALSE(res.applied);
   EXPECT_TRUE(res.revisions.empty());
-  EXPECT_NE(res.message.find("max_accel_bias_correction"), std::string::npos) << res.message;
+  EXPECT_NE(res.message.find("smoothing_max_acceleration_correction"), std::string::npos) << res.message;
   EXPECT_FALSE(s.active());
 }
 

@@ -98,11 +98,12 @@ struct ConflictOptions {
   double hold_secondary_speed_fraction = 0.5;
   /// The conflict window (triple window): after an IMU-dominated interval, once vision has held
   /// the velocity for smoothing_settle_frames, the interval is re-integrated with the one
-  /// accelerometer-bias correction that matches that velocity, and the window is moved onto the
-  /// corrected position. Corrections above smoothing_max_accel_bias_correction [m/s^2] are refused.
+  /// constant world-frame acceleration correction that matches that velocity, and the window is
+  /// moved onto the corrected position. Corrections above smoothing_max_acceleration_correction
+  /// [m/s^2] are refused.
   bool smoothing_enabled = true;
   int smoothing_settle_frames = 20;
-  double smoothing_max_accel_bias_correction = 0.2;
+  double smoothing_max_acceleration_correction = 0.2;
 
   void validate() const;
   static ConflictOptions fromYaml(const YAML::Node& node, const std::string& context = "conflict options");

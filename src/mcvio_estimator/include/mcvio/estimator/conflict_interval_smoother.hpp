@@ -15,13 +15,15 @@ namespace mcvio::estimator {
 
 /// The conflict window of the triple-window optimisation (dissertation ch. 6). Inside an
 /// IMU-dominated interval the position comes from the IMU alone with the biases held at their
-/// pre-conflict estimate, so any error of that estimate grows into a velocity error, then a
-/// position error. Once the interval has ended and vision has re-established the velocity, the
-/// interval is re-estimated from its start state: the IMU is integrated over every frame of the
-/// interval (with the estimator's orientations, which vision kept), and one accelerometer-bias
-/// correction is solved so that the inertial velocity at the end equals the visual one. The
-/// result is the corrected position of each frame and the shift that brings the live window onto
-/// the corrected end position.
+/// pre-conflict estimate, so an error of that estimate, or of the attitude that removes gravity,
+/// grows into a velocity error, then a position error. Once the interval has ended and vision has
+/// re-established the velocity, the interval is re-estimated from its start state: the IMU is
+/// integrated over every frame (with the estimator's orientations, which vision kept) and one
+/// acceleration correction, constant in the world frame over the window, is fitted so that the
+/// inertial velocity after the exit equals the visual one. (A correction of the accelerometer bias
+/// in the body frame fitted the same velocities worse: 0.50 against 0.21 m ATE on the
+/// feature-level elevator, 0.64 against 0.45 m on the rendered one.) The result is the corrected
+/// position of each frame and the shift that brings the live window onto the corrected end.
 class ConflictIntervalSmoother {
  public:
   struct Options {
@@ -30,13 +32,13 @@ class ConflictIntervalSmoother {
     int settle_frames = 20;
     /// A larger correction [m/s^2] means the end velocity is not the world's (the interval
     /// closed while the conflicting frame still moved): nothing is changed.
-    double max_accel_bias_correction = 0.2;
+    double max_acceleration_correction = 0.2;
   };
 
   struct Result {
     bool applied = false;
     std::string message;                                          ///< why not, or what was done
-    Eigen::Vector3d accel_bias_correction = Eigen::Vector3d::Zero();  ///< body frame [m/s^2]
+    Eigen::Vector3d acceleration_correction = Eigen::Vector3d::Zero();  ///< world frame [m/s^2]
     Eigen::Vector3d shift = Eigen::Vector3d::Zero();  ///< corrected minus estimated position at the end [m]
     std::vector<EstimatorOutput::PoseRevision> revisions;  ///< every frame after the start, the last one included
   };
