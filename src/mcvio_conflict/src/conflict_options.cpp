@@ -71,6 +71,7 @@ void ConflictOptions::validate() const {
   require(hold_min_secondary_speed_mps > 0, "hold_min_secondary_speed_mps", "must be > 0", hold_min_secondary_speed_mps);
   require(hold_secondary_speed_fraction >= 0 && hold_secondary_speed_fraction <= 1, "hold_secondary_speed_fraction",
           "must be in [0, 1]", hold_secondary_speed_fraction);
+  require(hold_max_speed_gain >= 1, "hold_max_speed_gain", "must be >= 1", hold_max_speed_gain);
   require(smoothing_settle_frames >= 1 && smoothing_settle_frames <= 400, "smoothing_settle_frames", "must be in [1, 400]",
           smoothing_settle_frames);
   require(smoothing_max_acceleration_correction > 0, "smoothing_max_acceleration_correction", "must be > 0",
@@ -132,6 +133,7 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("rotation_chi2_threshold", &o.rotation_chi2_threshold);
   read("hold_min_secondary_speed_mps", &o.hold_min_secondary_speed_mps);
   read("hold_secondary_speed_fraction", &o.hold_secondary_speed_fraction);
+  read("hold_max_speed_gain", &o.hold_max_speed_gain);
   read("smoothing_enabled", &o.smoothing_enabled);
   read("smoothing_settle_frames", &o.smoothing_settle_frames);
   read("smoothing_max_acceleration_correction", &o.smoothing_max_acceleration_correction);

@@ -275,12 +275,16 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   }
   // A conflicting frame still moving keeps its interval open (see hold_min_secondary_speed_mps).
   // Speed along the direction of the peak: the IMU-only estimate drifts sideways over a long ride.
+  // Only speed the frame gained while the detectors saw it accelerate counts: an inertial estimate
+  // drifting after a false alarm gains speed with no evidence, and must not hold its interval.
   if (imu_dominated_ && secondary_.valid()) {
     const Eigen::Vector3d& v = secondary_.v_WS();
     if (v.norm() > peak_secondary_velocity_.norm()) peak_secondary_velocity_ = v;
     const double peak = peak_secondary_velocity_.norm();
     const double along = peak > 0 ? v.dot(peak_secondary_velocity_) / peak : 0.0;
-    if (along >= options_.hold_min_secondary_speed_mps && along >= options_.hold_secondary_speed_fraction * peak)
+    if (evidence) evidence_secondary_speed_ = std::max(evidence_secondary_speed_, along);
+    if (along >= options_.hold_min_secondary_speed_mps && along >= options_.hold_secondary_speed_fraction * peak &&
+        along <= options_.hold_max_speed_gain * evidence_secondary_speed_)
       evidence = true;
   }
   pending_.evidence = evidence;
@@ -327,6 +331,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     if (want_imu) {
       imu_dominated_ = true;
       peak_secondary_velocity_.setZero();
+      evidence_secondary_speed_ = 0;
       // The state before the evidence run: the reference frame of its first frame.
       std::size_t first = history_.size();
       for (std::size_t i = 0; i < history_.size(); ++i)

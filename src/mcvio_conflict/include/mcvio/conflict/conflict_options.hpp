@@ -96,6 +96,9 @@ struct ConflictOptions {
   /// velocity, so a cabin cruising at steady speed would otherwise end the interval mid-ride.
   double hold_min_secondary_speed_mps = 0.5;
   double hold_secondary_speed_fraction = 0.5;
+  /// ... and at most this factor above the fastest it was seen while the detectors had evidence:
+  /// speed gained without evidence is the inertial estimate drifting, not the frame moving.
+  double hold_max_speed_gain = 1.25;
   /// The conflict window (triple window): after an IMU-dominated interval, once vision has held
   /// the velocity for smoothing_settle_frames, the interval is re-integrated with the one
   /// constant world-frame acceleration correction that matches that velocity, and the window is

@@ -126,6 +126,7 @@ class MotionConflictMonitor {
   bool have_pending_ = false;
   bool imu_dominated_ = false;
   ConflictIntervalSmoother smoother_;
+  double evidence_secondary_speed_ = 0;  ///< fastest along the peak while the detectors had evidence
   Eigen::Vector3d peak_secondary_velocity_ = Eigen::Vector3d::Zero();  ///< fastest in this IMU-dominated interval
   ImuBias held_bias_;
   ImuBias reference_bias_;
