@@ -23,6 +23,11 @@ void ConflictIntervalSmoother::begin(Timestamp t0, const Eigen::Vector3d& p0, co
 
 void ConflictIntervalSmoother::addFrame(Timestamp t, const Eigen::Quaterniond& q) {
   if (!active_ || t <= (frames_.empty() ? t0_ : frames_.back().t)) return;
+  if (toSeconds(t - t0_) > options_.max_window_s) {
+    active_ = false;
+    frames_.clear();
+    return;
+  }
   frames_.push_back({t, q.normalized()});
 }
 

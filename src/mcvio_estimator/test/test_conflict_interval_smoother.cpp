@@ -162,3 +162,15 @@ TEST(ConflictIntervalSmoother, ASecondIntervalWhileSettlingExtendsTheWindow) {
   ASSERT_TRUE(res.applied) << res.message;
   EXPECT_EQ(res.revisions.size(), 105u);
 }
+
+TEST(ConflictIntervalSmoother, AWindowLongerThanItsLimitIsGivenUp) {
+  ConflictIntervalSmoother::Options o = options();
+  o.max_window_s = 5.0;
+  ConflictIntervalSmoother s(o);
+  s.begin(kStart, Motion::position(0), Eigen::Quaterniond::Identity(), Motion::velocity(0), ImuBias{});
+  Timestamp t = kStart + kFramePeriod;
+  for (; seconds(t) <= 5.0 + 1e-9; t += kFramePeriod) s.addFrame(t, Eigen::Quaterniond::Identity());
+  EXPECT_TRUE(s.active());
+  s.addFrame(t, Eigen::Quaterniond::Identity());
+  EXPECT_FALSE(s.active()) << "no IMU is kept for a window that can no longer be smoothed";
+}

@@ -33,6 +33,9 @@ class ConflictIntervalSmoother {
     /// A larger correction [m/s^2] means the end velocity is not the world's (the interval
     /// closed while the conflicting frame still moved): nothing is changed.
     double max_acceleration_correction = 0.2;
+    /// A window longer than this [s] is given up (one constant correction cannot describe it, and
+    /// the IMU kept for it would grow without bound).
+    double max_window_s = 120.0;
   };
 
   struct Result {
@@ -48,7 +51,8 @@ class ConflictIntervalSmoother {
   /// Opens the window at the last state before the conflict (the biases are the held ones).
   void begin(Timestamp t0, const Eigen::Vector3d& p0, const Eigen::Quaterniond& q0, const Eigen::Vector3d& v0,
              const ImuBias& bias);
-  /// A frame of the interval (or after it, while settling) with its estimated orientation.
+  /// A frame of the interval (or after it, while settling) with its estimated orientation; past
+  /// max_window_s the window closes unsmoothed.
   void addFrame(Timestamp t, const Eigen::Quaterniond& q);
   /// The IMU-dominated interval ended at the last added frame.
   void markExit();
