@@ -197,6 +197,9 @@ class RunRecorder {
         data_seconds_(data_seconds),
         frames_total_(frames) {
     if (!tum_) throw InputError("cannot write " + tum_path);
+    // A per-frame trajectory left by an earlier run into this folder would not belong to this one.
+    std::error_code ignored;
+    std::filesystem::remove(std::filesystem::path(tum_path).replace_filename("trajectory_online.tum"), ignored);
     if (!conflict_) throw InputError("cannot write " + options.output_dir + "/conflict.csv");
     if (!secondary_) throw InputError("cannot write " + options.output_dir + "/secondary.tum");
     tum_ << "# t x y z qx qy qz qw  (pose of imu0 in world; t in seconds)\n" << std::setprecision(9) << std::fixed;
