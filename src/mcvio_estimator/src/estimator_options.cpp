@@ -58,6 +58,8 @@ void EstimatorOptions::validate() const {
   require(max_iterations >= 1, "max_iterations", "must be >= 1", max_iterations);
   require(function_tolerance > 0 && function_tolerance < 1, "function_tolerance", "must be in (0, 1)",
           function_tolerance);
+  require(conflict_function_tolerance > 0 && conflict_function_tolerance < 1, "conflict_function_tolerance",
+          "must be in (0, 1)", conflict_function_tolerance);
   require(max_solver_time_s > 0, "max_solver_time_s", "must be > 0", max_solver_time_s);
   require(num_threads >= 1, "num_threads", "must be >= 1", num_threads);
   require(init_window_s > 0, "init_window_s", "must be > 0", init_window_s);
@@ -126,6 +128,7 @@ EstimatorOptions EstimatorOptions::fromYaml(const YAML::Node& node, const std::s
   read(node, "max_imu_gap_s", &o.max_imu_gap_s, c);
   read(node, "max_iterations", &o.max_iterations, c);
   read(node, "function_tolerance", &o.function_tolerance, c);
+  read(node, "conflict_function_tolerance", &o.conflict_function_tolerance, c);
   read(node, "max_solver_time_s", &o.max_solver_time_s, c);
   read(node, "num_threads", &o.num_threads, c);
   read(node, "compute_covariance", &o.compute_covariance, c);

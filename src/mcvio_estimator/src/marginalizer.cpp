@@ -24,20 +24,31 @@ Eigen::MatrixXd pseudoInverse(const Eigen::MatrixXd& A) {
 }
 
 using CouplingBlock = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 15>;
+using PoseCoupling = Eigen::Matrix<double, 3, 6>;
+// One eliminated landmark's normal equations. Fixed-size storage: the common 3-dof landmark seen
+// from 6-dof poses never touches a dynamic-size matrix (it showed in the covariance's profile).
 struct LandmarkTerms {
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3> h;
-  Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1> g;
-  std::vector<std::pair<int, CouplingBlock>> coupling;  // dense offset -> H_landmark,block
-};
+  int k = 0;  ///< landmark tangent size; h and g use their top k rows
+  Eigen::Matrix3d h;
+  Eigen::Vector3d g;
+  std::vector<std::pair<int, PoseCoupling>> pose_coupling;    // dense offset -> H_landmark,pose (k == 3)
+  std::vector<std::pair<int, CouplingBlock>> other_coupling;  // any other block width or k < 3
 
-void addCoupling(LandmarkTerms& t, int off, const Eigen::Matrix<double, 3, 6>& c) {
-  for (auto& [o, m] : t.coupling)
-    if (o == off) {
-      m += c;
-      return;
-    }
-  t.coupling.emplace_back(off, c);
-}
+  void start(int size) {
+    if (k != 0) return;
+    k = size;
+    h.setZero();
+    g.setZero();
+  }
+  void addPose(int off, const PoseCoupling& c) {
+    for (auto& [o, m] : pose_coupling)
+      if (o == off) {
+        m += c;
+        return;
+      }
+    pose_coupling.emplace_back(off, c);
+  }
+};
 
 }  // namespace
 
@@ -160,9 +171,9 @@ void Marginalizer::reduce(const std::vector<int>& order, const std::vector<char>
       s = static_cast<int>(n_terms++);
       if (terms.size() < n_terms) terms.emplace_back();
       LandmarkTerms& t = terms[static_cast<std::size_t>(s)];
-      t.h.resize(0, 0);
-      t.g.resize(0);
-      t.coupling.clear();
+      t.k = 0;
+      t.pose_coupling.clear();
+      t.other_coupling.clear();
     }
     return terms[static_cast<std::size_t>(s)];
   };
@@ -213,14 +224,11 @@ void Marginalizer::reduce(const std::vector<int>& order, const std::vector<char>
         g->segment<6>(o0).noalias() += J0.transpose() * rr;
         g->segment<6>(o1).noalias() += J1.transpose() * rr;
         LandmarkTerms& t = termsOf(ids[2]);
-        if (t.h.size() == 0) {
-          t.h.setZero(3, 3);
-          t.g.setZero(3);
-        }
-        t.h += J2.transpose() * J2;
-        t.g += J2.transpose() * rr;
-        addCoupling(t, o0, J2.transpose() * J0);
-        addCoupling(t, o1, J2.transpose() * J1);
+        t.start(3);
+        t.h.noalias() += J2.transpose() * J2;
+        t.g.noalias() += J2.transpose() * rr;
+        t.addPose(o0, J2.transpose() * J0);
+        t.addPose(o1, J2.transpose() * J1);
         continue;
       }
     }
@@ -243,12 +251,9 @@ void Marginalizer::reduce(const std::vector<int>& order, const std::vector<char>
       }
       if (!rr.allFinite()) throw std::logic_error("Marginalizer: a residual block could not be evaluated");
       LandmarkTerms& t = termsOf(ids[0]);
-      if (t.h.size() == 0) {
-        t.h.setZero(3, 3);
-        t.g.setZero(3);
-      }
-      t.h += Jl.transpose() * Jl;
-      t.g += Jl.transpose() * rr;
+      t.start(3);
+      t.h.noalias() += Jl.transpose() * Jl;
+      t.g.noalias() += Jl.transpose() * rr;
       continue;
     }
     if (!linearize(res, &r, &J)) throw std::logic_error("Marginalizer: a residual block could not be evaluated");
@@ -276,20 +281,23 @@ void Marginalizer::reduce(const std::vector<int>& order, const std::vector<char>
     if (li >= 0) {
       LandmarkTerms& t = termsOf(ids[li]);
       const Eigen::MatrixXd& Jl = J[static_cast<std::size_t>(li)];
-      const auto k = Jl.cols();
-      if (t.h.size() == 0) {
-        t.h.setZero(k, k);
-        t.g.setZero(k);
-      }
-      t.h.noalias() += Jl.transpose() * Jl;
-      t.g.noalias() += Jl.transpose() * r;
+      const auto k = static_cast<int>(Jl.cols());
+      t.start(k);
+      if (t.k != k) throw std::logic_error("Marginalizer: a landmark block changed size");
+      t.h.topLeftCorner(k, k).noalias() += Jl.transpose() * Jl;
+      t.g.head(k).noalias() += Jl.transpose() * r;
       for (std::size_t a = 0; a < offs.size(); ++a) {
         if (offs[a] < 0) continue;
         if (J[a].cols() > 15) throw std::logic_error("Marginalizer: block coupled to a landmark is too large");
-        auto it = std::find_if(t.coupling.begin(), t.coupling.end(), [&](const auto& c) { return c.first == offs[a]; });
-        if (it == t.coupling.end()) {
-          t.coupling.emplace_back(offs[a], CouplingBlock::Zero(k, J[a].cols()));
-          it = t.coupling.end() - 1;
+        if (k == 3 && J[a].cols() == 6) {
+          t.addPose(offs[a], Jl.transpose() * J[a]);
+          continue;
+        }
+        auto it = std::find_if(t.other_coupling.begin(), t.other_coupling.end(),
+                               [&](const auto& c) { return c.first == offs[a]; });
+        if (it == t.other_coupling.end()) {
+          t.other_coupling.emplace_back(offs[a], CouplingBlock::Zero(k, J[a].cols()));
+          it = t.other_coupling.end() - 1;
         }
         it->second.noalias() += Jl.transpose() * J[a];
       }
@@ -298,29 +306,22 @@ void Marginalizer::reduce(const std::vector<int>& order, const std::vector<char>
   // Exact Schur complement of each landmark (no residual couples two of them).
   for (std::size_t i = 0; i < n_terms; ++i) {
     const LandmarkTerms& t = terms[i];
-    const bool fixed = t.h.rows() == 3 && std::all_of(t.coupling.begin(), t.coupling.end(),
-                                                       [](const auto& c) { return c.second.cols() == 6; });
-    if (fixed) {
+    if (t.k == 3 && t.other_coupling.empty()) {
       // 3-dof landmark coupled to poses only: fixed-size arithmetic.
-      const Eigen::Matrix3d h = t.h;
       Eigen::Matrix3d h_inv;
-      Eigen::LLT<Eigen::Matrix3d> llt(h);
-      if (llt.info() == Eigen::Success && h.diagonal().minCoeff() > 1e-12)
+      Eigen::LLT<Eigen::Matrix3d> llt(t.h);
+      if (llt.info() == Eigen::Success && t.h.diagonal().minCoeff() > 1e-12)
         h_inv = llt.solve(Eigen::Matrix3d::Identity());
       else
-        h_inv = pseudoInverse(Eigen::MatrixXd(h));
-      const Eigen::Vector3d tg = t.g;
-      // Fixed-size copies once per landmark, not once per pair of blocks.
-      thread_local std::vector<Eigen::Matrix<double, 3, 6>> c;
-      c.resize(t.coupling.size());
-      for (std::size_t a = 0; a < c.size(); ++a) c[a] = t.coupling[a].second;
+        h_inv = pseudoInverse(Eigen::MatrixXd(t.h));
+      const auto& c = t.pose_coupling;
       for (std::size_t a = 0; a < c.size(); ++a) {
-        const int oa = t.coupling[a].first;
-        const Eigen::Matrix<double, 6, 3> cah = c[a].transpose() * h_inv;
-        g->segment<6>(oa).noalias() -= cah * tg;
+        const int oa = c[a].first;
+        const Eigen::Matrix<double, 6, 3> cah = c[a].second.transpose() * h_inv;
+        g->segment<6>(oa).noalias() -= cah * t.g;
         for (std::size_t b = a; b < c.size(); ++b) {
-          const int ob = t.coupling[b].first;
-          const Eigen::Matrix<double, 6, 6> s = cah * c[b];
+          const int ob = c[b].first;
+          const Eigen::Matrix<double, 6, 6> s = cah * c[b].second;
           H->block<6, 6>(oa, ob) -= s;
           // The update is symmetric: the mirrored block needs no product of its own.
           if (b != a) H->block<6, 6>(ob, oa) -= s.transpose();
@@ -328,11 +329,15 @@ void Marginalizer::reduce(const std::vector<int>& order, const std::vector<char>
       }
       continue;
     }
-    const Eigen::MatrixXd h_inv = pseudoInverse(Eigen::MatrixXd(t.h));
-    for (const auto& [oa, ca] : t.coupling) {
+    const int k = t.k;
+    std::vector<std::pair<int, CouplingBlock>> coupling = t.other_coupling;
+    for (const auto& [o, m] : t.pose_coupling) coupling.emplace_back(o, m);
+    const Eigen::MatrixXd h_inv = pseudoInverse(Eigen::MatrixXd(t.h.topLeftCorner(k, k)));
+    const Eigen::VectorXd tg = t.g.head(k);
+    for (const auto& [oa, ca] : coupling) {
       const Eigen::MatrixXd cah = ca.transpose() * h_inv;
-      g->segment(oa, ca.cols()) -= cah * t.g;
-      for (const auto& [ob, cb] : t.coupling) H->block(oa, ob, ca.cols(), cb.cols()) -= cah * cb;
+      g->segment(oa, ca.cols()) -= cah * tg;
+      for (const auto& [ob, cb] : coupling) H->block(oa, ob, ca.cols(), cb.cols()) -= cah * cb;
     }
   }
 }

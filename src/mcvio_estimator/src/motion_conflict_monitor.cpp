@@ -165,7 +165,8 @@ bool MotionConflictMonitor::imuMotion(const Entry& r, Timestamp t, const ImuBuff
   return motion->t.allFinite() && motion->R.allFinite();
 }
 
-bool MotionConflictMonitor::visionVelocity(std::size_t i, std::size_t span, Eigen::Vector3d* v) const {
+bool MotionConflictMonitor::visionVelocity(std::size_t i, std::size_t span, const ImuBuffer& imu,
+                                           Eigen::Vector3d* v) const {
   if (i < span || i >= history_.size()) return false;
   const Entry& a = history_[i - span];
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -173,10 +174,18 @@ bool MotionConflictMonitor::visionVelocity(std::size_t i, std::size_t span, Eige
     if (!history_[j].vision_increment_valid) return false;
     T = T * history_[j].vision_increment;
   }
-  const double dt = toSeconds(history_[i].t - a.t);
+  std::vector<ImuSample> samples;
+  if (!imu.extract(a.t, history_[i].t, &samples) || samples.size() < 2) return false;
+  ImuPreintegrator pre(referenceBias(a), imu_noise_);
+  for (const auto& s : samples) pre.integrate(s);
+  const double dt = pre.deltaTime();
   if (!(dt > 0)) return false;
-  *v = a.state.q * T.translation() / dt;
-  return true;
+  // Vision's displacement is v_a dt + g dt^2 / 2 + R_a dP: solve for v_a, and let the IMU carry it
+  // to frame i. (Taking the mean velocity as the one at mid-span is wrong under a shaking hand.)
+  const Eigen::Matrix3d R_a = a.state.q.toRotationMatrix();
+  const Eigen::Vector3d v_a = (R_a * (T.translation() - pre.deltaP()) - 0.5 * gravity_ * dt * dt) / dt;
+  *v = v_a + gravity_ * dt + R_a * pre.deltaV();
+  return v->allFinite();
 }
 
 MotionConflictMonitor::Decision MotionConflictMonitor::process(
@@ -220,19 +229,8 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     // Inside an IMU-dominated interval the inertial velocity has drifted from what vision sees;
     // whether the conflict goes on is a question of acceleration, so take r's velocity from vision.
     if (imu_dominated_) {
-      // The chained vision displacement gives the mean velocity over [r - H, r], i.e. at the
-      // middle; the IMU carries it to r.
       Eigen::Vector3d v_vis;
-      const std::size_t span = static_cast<std::size_t>(H);
-      if (visionVelocity(r_index, span, &v_vis)) {
-        const Entry& mid = history_[r_index - span / 2];
-        std::vector<ImuSample> samples;
-        if (imu.extract(mid.t, r.t, &samples) && samples.size() >= 2) {
-          ImuPreintegrator pre(referenceBias(mid), imu_noise_);
-          for (const auto& smp : samples) pre.integrate(smp);
-          r.state.v = v_vis + mid.state.q * pre.deltaV() + gravity_ * pre.deltaTime();
-        }
-      }
+      if (visionVelocity(r_index, static_cast<std::size_t>(H), imu, &v_vis)) r.state.v = v_vis;
     }
     conflict::RelativeMotion imu_rel;
     State propagated;

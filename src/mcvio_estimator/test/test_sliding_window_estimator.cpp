@@ -308,12 +308,13 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_EQ(o.keyframe_window_size, d.keyframe_window_size);
   EXPECT_EQ(o.robust_loss, d.robust_loss);
   EXPECT_DOUBLE_EQ(o.function_tolerance, d.function_tolerance);
+  EXPECT_DOUBLE_EQ(o.conflict_function_tolerance, d.conflict_function_tolerance);
   EXPECT_DOUBLE_EQ(o.outlier_threshold_px, d.outlier_threshold_px);
   EXPECT_DOUBLE_EQ(o.init_roll_pitch_sigma_moving, d.init_roll_pitch_sigma_moving);
   EXPECT_DOUBLE_EQ(o.max_time_without_vision_s, d.max_time_without_vision_s);
   EXPECT_EQ(o.right_camera_in_all_frames, d.right_camera_in_all_frames);
   const YAML::Node root = YAML::LoadFile(std::string(MCVIO_ESTIMATOR_CONFIG_DIR) + "/estimator.yaml");
-  EXPECT_EQ(root.size(), 46u) << "every option appears once";
+  EXPECT_EQ(root.size(), 47u) << "every option appears once";
   // The conflict section lists every conflict option with its default.
   const auto& c = o.conflict;
   const conflict::ConflictOptions dc;

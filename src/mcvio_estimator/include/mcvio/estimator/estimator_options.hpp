@@ -44,7 +44,10 @@ struct EstimatorOptions {
 
   // Solver.
   int max_iterations = 8;
-  double function_tolerance = 1e-4;          ///< Ceres stops when the relative cost change is below this
+  double function_tolerance = 1e-3;          ///< Ceres stops when the relative cost change is below this
+  /// The same while a motion conflict is suspected or open: eliminated landmarks and an inertial
+  /// state moving away from vision take the solution further than one iteration goes.
+  double conflict_function_tolerance = 1e-4;
   /// Wall-clock budget per solve. A guard only by default: when it cuts a solve the result depends
   /// on machine load, so offline and live runs of the same input would differ.
   double max_solver_time_s = 1.0;

@@ -76,6 +76,8 @@ class MotionConflictMonitor {
 
   bool isEliminated(std::uint64_t track_id) const { return classifier_.isMoving(track_id); }
   bool imuDominated() const { return imu_dominated_; }
+  /// A conflict is suspected or open (in any mode, reference included).
+  bool conflictActive() const { return tracker_.state() != conflict::ConflictIntervalTracker::State::kNone; }
   /// Oldest time the monitor still needs IMU for (the conflict window's start while it is open).
   Timestamp oldestTimeNeeded() const;
   /// The conflict window after an IMU-dominated interval is ready to be smoothed (see
@@ -102,8 +104,9 @@ class MotionConflictMonitor {
   /// ConflictOptions::bias_reference_lag_frames); `propagated` is r's state moved to t.
   bool imuMotion(const Entry& r, Timestamp t, const ImuBuffer& imu, conflict::RelativeMotion* motion,
                  State* propagated) const;
-  /// Vision-only world velocity at history index i (average over the `span` frames before it).
-  bool visionVelocity(std::size_t i, std::size_t span, Eigen::Vector3d* v) const;
+  /// Vision-only world velocity at history index i: the vision displacement over the `span` frames
+  /// before it, with the IMU's preintegration over the same frames.
+  bool visionVelocity(std::size_t i, std::size_t span, const ImuBuffer& imu, Eigen::Vector3d* v) const;
   /// Every bias estimated after history_[i] stayed close to it (bias_reference_max_change_sigmas).
   bool biasSettled(std::size_t i) const;
   ImuBias referenceBias(const Entry& r) const { return have_reference_bias_ ? reference_bias_ : r.state.bias; }
