@@ -72,6 +72,8 @@ void ConflictOptions::validate() const {
   require(hold_secondary_speed_fraction >= 0 && hold_secondary_speed_fraction <= 1, "hold_secondary_speed_fraction",
           "must be in [0, 1]", hold_secondary_speed_fraction);
   require(hold_max_speed_gain >= 1, "hold_max_speed_gain", "must be >= 1", hold_max_speed_gain);
+  require(exit_bias_hold_frames >= 0 && exit_bias_hold_frames <= 400, "exit_bias_hold_frames", "must be in [0, 400]",
+          exit_bias_hold_frames);
   require(smoothing_settle_frames >= 1 && smoothing_settle_frames <= 400, "smoothing_settle_frames", "must be in [1, 400]",
           smoothing_settle_frames);
   require(smoothing_max_acceleration_correction > 0, "smoothing_max_acceleration_correction", "must be > 0",
@@ -136,6 +138,7 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("hold_max_speed_gain", &o.hold_max_speed_gain);
   read("smoothing_enabled", &o.smoothing_enabled);
   read("smoothing_settle_frames", &o.smoothing_settle_frames);
+  read("exit_bias_hold_frames", &o.exit_bias_hold_frames);
   read("smoothing_max_acceleration_correction", &o.smoothing_max_acceleration_correction);
   for (const auto& kv : node) {
     const std::string key = kv.first.as<std::string>();

@@ -58,6 +58,7 @@ void MotionConflictMonitor::reset() {
   imu_dominated_ = false;
   have_reference_bias_ = false;
   frames_since_reset_ = 0;
+  frames_since_imu_exit_ = -1;
   tracker_.reset();
   classifier_.clear();
   secondary_.end();
@@ -165,8 +166,7 @@ bool MotionConflictMonitor::imuMotion(const Entry& r, Timestamp t, const ImuBuff
   return motion->t.allFinite() && motion->R.allFinite();
 }
 
-bool MotionConflictMonitor::visionVelocity(std::size_t i, std::size_t span, const ImuBuffer& imu,
-                                           Eigen::Vector3d* v) const {
+bool MotionConflictMonitor::visionVelocity(std::size_t i, std::size_t span, Eigen::Vector3d* v) const {
   if (i < span || i >= history_.size()) return false;
   const Entry& a = history_[i - span];
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -174,18 +174,10 @@ bool MotionConflictMonitor::visionVelocity(std::size_t i, std::size_t span, cons
     if (!history_[j].vision_increment_valid) return false;
     T = T * history_[j].vision_increment;
   }
-  std::vector<ImuSample> samples;
-  if (!imu.extract(a.t, history_[i].t, &samples) || samples.size() < 2) return false;
-  ImuPreintegrator pre(referenceBias(a), imu_noise_);
-  for (const auto& s : samples) pre.integrate(s);
-  const double dt = pre.deltaTime();
+  const double dt = toSeconds(history_[i].t - a.t);
   if (!(dt > 0)) return false;
-  // Vision's displacement is v_a dt + g dt^2 / 2 + R_a dP: solve for v_a, and let the IMU carry it
-  // to frame i. (Taking the mean velocity as the one at mid-span is wrong under a shaking hand.)
-  const Eigen::Matrix3d R_a = a.state.q.toRotationMatrix();
-  const Eigen::Vector3d v_a = (R_a * (T.translation() - pre.deltaP()) - 0.5 * gravity_ * dt * dt) / dt;
-  *v = v_a + gravity_ * dt + R_a * pre.deltaV();
-  return v->allFinite();
+  *v = a.state.q * T.translation() / dt;
+  return true;
 }
 
 MotionConflictMonitor::Decision MotionConflictMonitor::process(
@@ -229,8 +221,19 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     // Inside an IMU-dominated interval the inertial velocity has drifted from what vision sees;
     // whether the conflict goes on is a question of acceleration, so take r's velocity from vision.
     if (imu_dominated_) {
+      // The chained vision displacement gives the mean velocity over [r - H, r], i.e. at the
+      // middle; the IMU carries it to r.
       Eigen::Vector3d v_vis;
-      if (visionVelocity(r_index, static_cast<std::size_t>(H), imu, &v_vis)) r.state.v = v_vis;
+      const std::size_t span = static_cast<std::size_t>(H);
+      if (visionVelocity(r_index, span, &v_vis)) {
+        const Entry& mid = history_[r_index - span / 2];
+        std::vector<ImuSample> samples;
+        if (imu.extract(mid.t, r.t, &samples) && samples.size() >= 2) {
+          ImuPreintegrator pre(referenceBias(mid), imu_noise_);
+          for (const auto& smp : samples) pre.integrate(smp);
+          r.state.v = v_vis + mid.state.q * pre.deltaV() + gravity_ * pre.deltaTime();
+        }
+      }
     }
     conflict::RelativeMotion imu_rel;
     State propagated;
@@ -312,6 +315,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     // correct it: a full warm-up before they serve as reference frames again (a shorter one
     // reopened a false interval after a vehicle ride).
     frames_since_reset_ = 0;
+    frames_since_imu_exit_ = 0;
   }
   if (tracker_.inConflict() && !imu_dominated_) {
     // Auto: a conflict that opens whole-view without a static group (a closed cabin) is
@@ -374,6 +378,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     if (!d.rotation_sqrt_information.allFinite()) d.vision_rotation = false;
   }
   d.held_bias = held_bias_;
+  d.hold_bias = imu_dominated_ || (frames_since_imu_exit_ >= 0 && frames_since_imu_exit_ < options_.exit_bias_hold_frames);
   d.suppress_zero_velocity = mode != conflict::ResolutionMode::kReference && tracker_.inConflict();
   switch (mode) {
     case conflict::ResolutionMode::kReference:
@@ -420,6 +425,7 @@ void MotionConflictMonitor::commit(const State& solved, ConflictReport* report) 
   history_.push_back(std::move(pending_));
   have_pending_ = false;
   ++frames_since_reset_;
+  if (frames_since_imu_exit_ >= 0) ++frames_since_imu_exit_;
   const std::size_t lag = static_cast<std::size_t>(options_.bias_reference_lag_frames);
   // Only biases estimated after the warm-up count: the first estimates are still settling.
   if (tracker_.state() != conflict::ConflictIntervalTracker::State::kConflict &&

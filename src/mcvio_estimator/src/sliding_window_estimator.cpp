@@ -928,6 +928,11 @@ void SlidingWindowEstimator::commitToMonitor(EstimatorOutput* out) {
 void SlidingWindowEstimator::applyConflictDecision(const MotionConflictMonitor::Decision& decision, Frame& cur) {
   for (const auto id : decision.eliminate) eraseLandmark(id);
   if (decision.rewind) restartFrom(cur, decision.rewind_state, toSeconds(cur.t - decision.rewind_t));
+  if (decision.hold_bias) {
+    Eigen::Map<Eigen::Vector3d>(cur.sb.data() + 3) = decision.held_bias.gyro;
+    Eigen::Map<Eigen::Vector3d>(cur.sb.data() + 6) = decision.held_bias.accel;
+    cur.bias_held = true;
+  }
   if (!decision.imu_dominated) return;
   // A conflicting camera must neither move the state nor bend the biases.
   landmarks_.clear();
@@ -935,9 +940,6 @@ void SlidingWindowEstimator::applyConflictDecision(const MotionConflictMonitor::
     f->cam0.clear();
     f->cam1.clear();
   }
-  Eigen::Map<Eigen::Vector3d>(cur.sb.data() + 3) = decision.held_bias.gyro;
-  Eigen::Map<Eigen::Vector3d>(cur.sb.data() + 6) = decision.held_bias.accel;
-  cur.bias_held = true;
   last_vision_t_ = cur.t;
   if (decision.vision_rotation && frames_.size() >= 2) {
     cur.has_vision_rotation = true;

@@ -99,6 +99,10 @@ struct ConflictOptions {
   /// ... and at most this factor above the fastest it was seen while the detectors had evidence:
   /// speed gained without evidence is the inertial estimate drifting, not the frame moving.
   double hold_max_speed_gain = 1.25;
+  /// Biases stay held this many frames after an IMU-dominated interval ends: vision pulls the
+  /// drifted inertial velocity back then, and free biases would soak part of that jump up (a
+  /// vehicle's bent accelerometer bias reopened a false interval 4 s after the ride).
+  int exit_bias_hold_frames = 20;
   /// The conflict window (triple window): after an IMU-dominated interval, once vision has held
   /// the velocity for smoothing_settle_frames, the interval is re-integrated with the one
   /// constant world-frame acceleration correction that matches that velocity, and the window is

@@ -44,7 +44,7 @@ struct EstimatorOptions {
 
   // Solver.
   int max_iterations = 8;
-  double function_tolerance = 1e-3;          ///< Ceres stops when the relative cost change is below this
+  double function_tolerance = 1e-4;          ///< Ceres stops when the relative cost change is below this
   /// The same while a motion conflict is suspected or open: eliminated landmarks and an inertial
   /// state moving away from vision take the solution further than one iteration goes.
   double conflict_function_tolerance = 1e-4;

@@ -49,6 +49,8 @@ class MotionConflictMonitor {
   struct Decision {
     ConflictReport report;
     bool imu_dominated = false;      ///< no visual residuals, biases held at `held_bias`
+    /// Just after an IMU-dominated interval: vision back, biases still held at `held_bias`.
+    bool hold_bias = false;
     ImuBias held_bias;
     bool rewind = false;             ///< restart the window from `rewind_state` propagated to this frame
     State rewind_state;
@@ -104,9 +106,8 @@ class MotionConflictMonitor {
   /// ConflictOptions::bias_reference_lag_frames); `propagated` is r's state moved to t.
   bool imuMotion(const Entry& r, Timestamp t, const ImuBuffer& imu, conflict::RelativeMotion* motion,
                  State* propagated) const;
-  /// Vision-only world velocity at history index i: the vision displacement over the `span` frames
-  /// before it, with the IMU's preintegration over the same frames.
-  bool visionVelocity(std::size_t i, std::size_t span, const ImuBuffer& imu, Eigen::Vector3d* v) const;
+  /// Vision-only world velocity at history index i (average over the `span` frames before it).
+  bool visionVelocity(std::size_t i, std::size_t span, Eigen::Vector3d* v) const;
   /// Every bias estimated after history_[i] stayed close to it (bias_reference_max_change_sigmas).
   bool biasSettled(std::size_t i) const;
   ImuBias referenceBias(const Entry& r) const { return have_reference_bias_ ? reference_bias_ : r.state.bias; }
@@ -135,6 +136,7 @@ class MotionConflictMonitor {
   ImuBias reference_bias_;
   bool have_reference_bias_ = false;
   int frames_since_reset_ = 0;
+  int frames_since_imu_exit_ = -1;  ///< -1: no IMU-dominated interval has ended since the last reset
 };
 
 }  // namespace mcvio::estimator
