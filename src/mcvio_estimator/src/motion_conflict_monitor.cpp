@@ -166,7 +166,8 @@ bool MotionConflictMonitor::imuMotion(const Entry& r, Timestamp t, const ImuBuff
   return motion->t.allFinite() && motion->R.allFinite();
 }
 
-bool MotionConflictMonitor::visionVelocity(std::size_t i, std::size_t span, Eigen::Vector3d* v) const {
+bool MotionConflictMonitor::visionVelocity(std::size_t i, std::size_t span, const ImuBuffer& imu,
+                                           Eigen::Vector3d* v) const {
   if (i < span || i >= history_.size()) return false;
   const Entry& a = history_[i - span];
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -174,10 +175,41 @@ bool MotionConflictMonitor::visionVelocity(std::size_t i, std::size_t span, Eige
     if (!history_[j].vision_increment_valid) return false;
     T = T * history_[j].vision_increment;
   }
-  const double dt = toSeconds(history_[i].t - a.t);
+  std::vector<ImuSample> samples;
+  if (!imu.extract(a.t, history_[i].t, &samples) || samples.size() < 2) return false;
+  ImuPreintegrator pre(referenceBias(a), imu_noise_);
+  for (const auto& s : samples) pre.integrate(s);
+  const double dt = pre.deltaTime();
   if (!(dt > 0)) return false;
-  *v = a.state.q * T.translation() / dt;
-  return true;
+  // Vision's displacement is v_a dt + g dt^2 / 2 + R_a dP: solve for v_a, and let the IMU carry it
+  // to frame i. (The mean vision velocity taken at mid-span is wrong under a shaking hand: it made
+  // evidence out of nothing and kept the slow object's false interval open for good.)
+  const Eigen::Matrix3d R_a = a.state.q.toRotationMatrix();
+  const Eigen::Vector3d v_a = (R_a * (T.translation() - pre.deltaP()) - 0.5 * gravity_ * dt * dt) / dt;
+  *v = v_a + gravity_ * dt + R_a * pre.deltaV();
+  return v->allFinite();
+}
+
+void MotionConflictMonitor::solveVisionIncrement(const Entry& prev, const ImuBuffer& imu, Entry* cur) const {
+  cur->vision_increment = Eigen::Isometry3d::Identity();
+  cur->vision_increment_valid = false;
+  conflict::RelativeMotion imu_prev;
+  State ignored;
+  if (!imuMotion(prev, cur->t, imu, &imu_prev, &ignored)) return;
+  const auto all = collectPoints(prev, cur->cam0, cur->cam1);
+  std::vector<conflict::TrackedPoint> still;
+  for (const auto& p : all)
+    if (!classifier_.isMoving(p.track_id)) still.push_back(p);
+  auto sol = pose_solver_.solve(still, imu_prev);
+  // When the tracks not found moving cannot give a motion, the moving group is all vision has (a
+  // cabin found moving before its interval turned IMU-dominated): measure against it, so the
+  // secondary motion's chain of increments does not break.
+  if (!sol.valid && still.size() < all.size()) sol = pose_solver_.solve(all, imu_prev);
+  if (!sol.valid) return;
+  cur->vision_increment.linear() = sol.motion.R;
+  cur->vision_increment.translation() = sol.motion.t;
+  cur->vision_increment_valid = true;
+  cur->vision_rotation_covariance = sol.motion.covariance.block<3, 3>(0, 0);
 }
 
 MotionConflictMonitor::Decision MotionConflictMonitor::process(
@@ -193,22 +225,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   have_pending_ = true;
 
   // Vision-only increment from the previous frame: the body's motion inside whatever it sees.
-  if (!history_.empty()) {
-    conflict::RelativeMotion imu_prev;
-    State ignored;
-    if (imuMotion(history_.back(), t, imu, &imu_prev, &ignored)) {
-      std::vector<conflict::TrackedPoint> pts;
-      for (auto& p : collectPoints(history_.back(), cam0, cam1))
-        if (!classifier_.isMoving(p.track_id)) pts.push_back(p);
-      const auto sol = pose_solver_.solve(pts, imu_prev);
-      if (sol.valid) {
-        pending_.vision_increment.linear() = sol.motion.R;
-        pending_.vision_increment.translation() = sol.motion.t;
-        pending_.vision_increment_valid = true;
-        pending_.vision_rotation_covariance = sol.motion.covariance.block<3, 3>(0, 0);
-      }
-    }
-  }
+  if (!history_.empty()) solveVisionIncrement(history_.back(), imu, &pending_);
 
   const int H = options_.horizon_frames;
   bool evidence = false, whole = false, rotation_agrees = false;
@@ -221,19 +238,8 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     // Inside an IMU-dominated interval the inertial velocity has drifted from what vision sees;
     // whether the conflict goes on is a question of acceleration, so take r's velocity from vision.
     if (imu_dominated_) {
-      // The chained vision displacement gives the mean velocity over [r - H, r], i.e. at the
-      // middle; the IMU carries it to r.
       Eigen::Vector3d v_vis;
-      const std::size_t span = static_cast<std::size_t>(H);
-      if (visionVelocity(r_index, span, &v_vis)) {
-        const Entry& mid = history_[r_index - span / 2];
-        std::vector<ImuSample> samples;
-        if (imu.extract(mid.t, r.t, &samples) && samples.size() >= 2) {
-          ImuPreintegrator pre(referenceBias(mid), imu_noise_);
-          for (const auto& smp : samples) pre.integrate(smp);
-          r.state.v = v_vis + mid.state.q * pre.deltaV() + gravity_ * pre.deltaTime();
-        }
-      }
+      if (visionVelocity(r_index, static_cast<std::size_t>(H), imu, &v_vis)) r.state.v = v_vis;
     }
     conflict::RelativeMotion imu_rel;
     State propagated;

@@ -106,8 +106,12 @@ class MotionConflictMonitor {
   /// ConflictOptions::bias_reference_lag_frames); `propagated` is r's state moved to t.
   bool imuMotion(const Entry& r, Timestamp t, const ImuBuffer& imu, conflict::RelativeMotion* motion,
                  State* propagated) const;
-  /// Vision-only world velocity at history index i (average over the `span` frames before it).
-  bool visionVelocity(std::size_t i, std::size_t span, Eigen::Vector3d* v) const;
+  /// Vision-only world velocity at history index i: the vision displacement over the `span` frames
+  /// before it, with the IMU's preintegration over the same frames.
+  bool visionVelocity(std::size_t i, std::size_t span, const ImuBuffer& imu, Eigen::Vector3d* v) const;
+  /// Vision-only motion from `prev` to `cur` (from the tracks not found moving, or from all when
+  /// those give none), stored in `cur`.
+  void solveVisionIncrement(const Entry& prev, const ImuBuffer& imu, Entry* cur) const;
   /// Every bias estimated after history_[i] stayed close to it (bias_reference_max_change_sigmas).
   bool biasSettled(std::size_t i) const;
   ImuBias referenceBias(const Entry& r) const { return have_reference_bias_ ? reference_bias_ : r.state.bias; }
