@@ -626,6 +626,7 @@ void SlidingWindowEstimator::solve(EstimatorOutput* out) {
     pending.clear();
     for (auto& f : frames_) {
       for (int c = 0; c < 2; ++c) {
+        // Right-camera observations outside the anchor frame only when configured.
         if (c == 1 && f.get() != anchor && !options_.right_camera_in_all_frames) continue;
         const auto& map = c == 0 ? f->cam0 : f->cam1;
         const auto it = map.find(track);
@@ -638,7 +639,6 @@ void SlidingWindowEstimator::solve(EstimatorOutput* out) {
           pending.back().camera = c;
           continue;
         }
-        if (c == 1 && !options_.right_camera_in_all_frames) continue;
         auto* cost = static_cast<ReprojectionFactor*>(cachedCost(f->id, c, false, it->second).cost.get());
         Eigen::Vector3d p_C;
         if (!cost->pointInCamera(anchor->pose.data(), f->pose.data(), lm.param.data(), &p_C)) continue;
