@@ -74,6 +74,8 @@ void ConflictOptions::validate() const {
   require(hold_max_speed_gain >= 1, "hold_max_speed_gain", "must be >= 1", hold_max_speed_gain);
   require(exit_bias_hold_frames >= 0 && exit_bias_hold_frames <= 400, "exit_bias_hold_frames", "must be in [0, 400]",
           exit_bias_hold_frames);
+  require(restart_min_velocity_jump_mps >= 0, "restart_min_velocity_jump_mps", "must be >= 0",
+          restart_min_velocity_jump_mps);
   require(smoothing_settle_frames >= 1 && smoothing_settle_frames <= 400, "smoothing_settle_frames", "must be in [1, 400]",
           smoothing_settle_frames);
   require(smoothing_max_acceleration_correction > 0, "smoothing_max_acceleration_correction", "must be > 0",
@@ -139,6 +141,8 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("smoothing_enabled", &o.smoothing_enabled);
   read("smoothing_settle_frames", &o.smoothing_settle_frames);
   read("exit_bias_hold_frames", &o.exit_bias_hold_frames);
+  read("restart_on_exit", &o.restart_on_exit);
+  read("restart_min_velocity_jump_mps", &o.restart_min_velocity_jump_mps);
   read("smoothing_max_acceleration_correction", &o.smoothing_max_acceleration_correction);
   for (const auto& kv : node) {
     const std::string key = kv.first.as<std::string>();

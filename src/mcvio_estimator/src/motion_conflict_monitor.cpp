@@ -313,6 +313,19 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   d.report.interval_start = tracker_.intervalStart();
 
   if (tracker_.justExited() && imu_dominated_) {
+    if (options_.restart_on_exit && !history_.empty()) {
+      const std::size_t last = history_.size() - 1;
+      Entry from = history_[last];
+      State inertial;
+      conflict::RelativeMotion ignored;
+      if (imuMotion(from, t, imu, &ignored, &inertial) &&
+          visionVelocity(last, static_cast<std::size_t>(H), imu, &from.state.v) &&
+          imuMotion(from, t, imu, &ignored, &d.exit_state)) {
+        d.exit_state.bias = held_bias_;
+        d.exit_velocity_jump_mps = (d.exit_state.v - inertial.v).norm();
+        d.restart_on_exit = d.exit_velocity_jump_mps >= options_.restart_min_velocity_jump_mps;
+      }
+    }
     imu_dominated_ = false;
     smoother_.markExit();
     secondary_.end();

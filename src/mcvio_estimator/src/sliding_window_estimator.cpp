@@ -314,6 +314,7 @@ EstimatorOutput SlidingWindowEstimator::addFrame(const FeatureFrame& input) {
   out.conflict = decision.report;
   applyConflictDecision(decision, cur);
   if (decision.rewind) p_pred = decision.rewind_state.p;
+  if (decision.restart_on_exit) p_pred = decision.exit_state.p;
   out.timings.conflict_ms = msSince(t_stage);
   createLandmarks(cur, &out.num_new_landmarks);
   cur.keyframe = decideKeyframe(cur);
@@ -927,7 +928,34 @@ void SlidingWindowEstimator::commitToMonitor(EstimatorOutput* out) {
 
 void SlidingWindowEstimator::applyConflictDecision(const MotionConflictMonitor::Decision& decision, Frame& cur) {
   for (const auto id : decision.eliminate) eraseLandmark(id);
-  if (decision.rewind) restartFrom(cur, decision.rewind_state, toSeconds(cur.t - decision.rewind_t));
+  const auto& c = options_.conflict;
+  if (decision.rewind) {
+    // The rewound state is an estimate propagated over dt: its position spreads with the velocity.
+    const double dt = toSeconds(cur.t - decision.rewind_t);
+    const double sp = 0.01 + c.velocity_sigma_mps * dt;
+    Eigen::Matrix<double, 15, 1> sigmas;
+    sigmas << sp, sp, sp, c.attitude_sigma_rad, c.attitude_sigma_rad, c.attitude_sigma_rad, c.velocity_sigma_mps,
+        c.velocity_sigma_mps, c.velocity_sigma_mps, c.gyro_bias_sigma, c.gyro_bias_sigma, c.gyro_bias_sigma,
+        c.accel_bias_sigma, c.accel_bias_sigma, c.accel_bias_sigma;
+    restartFrom(cur, decision.rewind_state, sigmas);
+    spdlog::info("{}motion conflict at t={} ns: IMU-dominated from the state {:.2f} s back, biases held", kLog, cur.t,
+                 dt);
+  }
+  if (decision.restart_on_exit) {
+    // Roll and pitch drifted with the gyro over the interval; gravity tells them again, as at a
+    // moving start. Position and yaw continue (unobservable), velocity is vision's.
+    const double srp = options_.init_roll_pitch_sigma_moving;
+    Eigen::Matrix<double, 15, 1> sigmas;
+    sigmas << 0.01, 0.01, 0.01, srp, srp, c.attitude_sigma_rad, c.velocity_sigma_mps, c.velocity_sigma_mps,
+        c.velocity_sigma_mps, c.gyro_bias_sigma, c.gyro_bias_sigma, c.gyro_bias_sigma, c.accel_bias_sigma,
+        c.accel_bias_sigma, c.accel_bias_sigma;
+    restartFrom(cur, decision.exit_state, sigmas);
+    const Eigen::Vector3d& v = decision.exit_state.v;
+    spdlog::info(
+        "{}motion conflict over at t={} ns: window restarted at vision's velocity ({:.2f}, {:.2f}, {:.2f}) m/s, "
+        "{:.2f} m/s from the inertial one",
+        kLog, cur.t, v.x(), v.y(), v.z(), decision.exit_velocity_jump_mps);
+  }
   if (decision.hold_bias) {
     Eigen::Map<Eigen::Vector3d>(cur.sb.data() + 3) = decision.held_bias.gyro;
     Eigen::Map<Eigen::Vector3d>(cur.sb.data() + 6) = decision.held_bias.accel;
@@ -950,7 +978,7 @@ void SlidingWindowEstimator::applyConflictDecision(const MotionConflictMonitor::
 }
 
 void SlidingWindowEstimator::restartFrom(Frame& cur, const MotionConflictMonitor::State& state,
-                                         double dt_since_estimate) {
+                                         const Eigen::Matrix<double, 15, 1>& sigmas) {
   Eigen::Map<Eigen::Vector3d>(cur.pose.data()) = state.p;
   Eigen::Map<Eigen::Quaterniond>(cur.pose.data() + 3) = state.q.normalized();
   Eigen::Map<Eigen::Vector3d>(cur.sb.data()) = state.v;
@@ -968,15 +996,7 @@ void SlidingWindowEstimator::restartFrom(Frame& cur, const MotionConflictMonitor
   frames_.clear();
   frames_.push_back(std::move(keep));
   landmarks_.clear();
-  const auto& c = options_.conflict;
-  Eigen::Matrix<double, 15, 1> sigmas;
-  const double sp = 0.01 + c.velocity_sigma_mps * dt_since_estimate;
-  sigmas << sp, sp, sp, c.attitude_sigma_rad, c.attitude_sigma_rad, c.attitude_sigma_rad, c.velocity_sigma_mps,
-      c.velocity_sigma_mps, c.velocity_sigma_mps, c.gyro_bias_sigma, c.gyro_bias_sigma, c.gyro_bias_sigma,
-      c.accel_bias_sigma, c.accel_bias_sigma, c.accel_bias_sigma;
   setStatePrior(cur, sigmas);
-  spdlog::info("{}motion conflict at t={} ns: IMU-dominated from the state {:.2f} s back, biases held", kLog, cur.t,
-               dt_since_estimate);
 }
 
 void SlidingWindowEstimator::smoothConflictWindow(EstimatorOutput* out) {

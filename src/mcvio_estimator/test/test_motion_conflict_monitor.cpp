@@ -444,3 +444,38 @@ TEST(MotionConflictMonitor, ACabinCruisingAtSteadySpeedKeepsItsIntervalOpen) {
   });
   EXPECT_GT(exit, entry) << "the interval should close while the cabin cruises";
 }
+
+TEST(MotionConflictMonitor, AnIntervalEndingWithAVelocityJumpRestartsAtVisionsVelocity) {
+  // The cruising cabin without the hold: the interval ends while the cabin moves at 1.5 m/s with
+  // the device at rest inside it. The inertial velocity (the committed true 1.5 m/s) and vision's
+  // (at rest in what it sees) differ by the cruise speed.
+  Scenario sc = cabin(80, kCabinFrame);
+  sc.traj.pulse_peak = 3.0;
+  const int frames_total = kCabinFrame + 160;
+  conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kImu);
+  o.hold_min_secondary_speed_mps = 1e9;
+  const auto frames = run(sc, o, frames_total);
+  const int entry = firstFrame(frames, [](const Frame& f) { return f.decision.imu_dominated; });
+  ASSERT_GT(entry, kCabinFrame);
+  const int exit = firstFrame(frames, [&](const Frame& f) { return &f - frames.data() > entry && !f.decision.imu_dominated; });
+  ASSERT_GT(exit, entry);
+  // (With the true cruise committed as the solved state the conflict opens again; every interval
+  // restarts once, at its end.)
+  for (int k = 1; k < frames_total; ++k) {
+    const bool exits = frames[k - 1].decision.imu_dominated && !frames[k].decision.imu_dominated;
+    EXPECT_EQ(frames[k].decision.restart_on_exit, exits) << "frame " << k;
+  }
+  const auto& d = frames[exit].decision;
+  EXPECT_NEAR(d.exit_velocity_jump_mps, 1.5, 0.1);
+  EXPECT_LT(d.exit_state.v.norm(), 0.05) << "vision's velocity: at rest in the cabin";
+  EXPECT_LT((d.exit_state.p - sc.traj.position(frameSeconds(exit))).norm(), 0.1);
+  EXPECT_LT((d.exit_state.bias.accel - d.held_bias.accel).norm(), 1e-12);
+  EXPECT_LT((d.exit_state.bias.gyro - d.held_bias.gyro).norm(), 1e-12);
+
+  // A jump below the threshold is left to the window, and so is every exit with the option off.
+  o.restart_min_velocity_jump_mps = 2.0;
+  for (const auto& f : run(sc, o, frames_total)) EXPECT_FALSE(f.decision.restart_on_exit);
+  o.restart_min_velocity_jump_mps = 0.2;
+  o.restart_on_exit = false;
+  for (const auto& f : run(sc, o, frames_total)) EXPECT_FALSE(f.decision.restart_on_exit);
+}

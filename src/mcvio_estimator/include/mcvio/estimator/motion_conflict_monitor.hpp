@@ -55,6 +55,11 @@ class MotionConflictMonitor {
     bool rewind = false;             ///< restart the window from `rewind_state` propagated to this frame
     State rewind_state;
     Timestamp rewind_t = 0;
+    /// An IMU-dominated interval ended with a velocity jump: restart the window from `exit_state`
+    /// (this frame's pose, vision's velocity, the held biases).
+    bool restart_on_exit = false;
+    State exit_state;
+    double exit_velocity_jump_mps = 0;  ///< vision's velocity minus the inertial one, at the exit
     bool suppress_zero_velocity = false;  ///< vision at rest inside a moving frame says nothing
     std::vector<std::uint64_t> eliminate;  ///< tracks declared moving in this frame
     /// IMU-dominated with a rotation vision and gyro agree on: vision's rotation from the previous

@@ -143,8 +143,10 @@ class SlidingWindowEstimator {
   void solve(EstimatorOutput* out);
   void removeOutliers(EstimatorOutput* out);
   std::string checkFailure(const Eigen::Vector3d& p_pred) const;
-  /// Restarts the window from a single frame with the given state (IMU-dominated rewind).
-  void restartFrom(Frame& cur, const MotionConflictMonitor::State& state, double dt_since_estimate);
+  /// Restarts the window from a single frame with the given state and prior sigmas (position,
+  /// world attitude, velocity, gyro and accel biases): the rewind at the start of an
+  /// IMU-dominated interval and the restart at its end.
+  void restartFrom(Frame& cur, const MotionConflictMonitor::State& state, const Eigen::Matrix<double, 15, 1>& sigmas);
   void setStatePrior(Frame& frame, const Eigen::Matrix<double, 15, 1>& sigmas);
   void applyConflictDecision(const MotionConflictMonitor::Decision& decision, Frame& cur);
   /// The conflict window after an IMU-dominated interval: re-estimates it and moves the window.
