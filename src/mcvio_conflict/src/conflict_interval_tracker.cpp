@@ -2,8 +2,9 @@
 
 namespace mcvio::conflict {
 
-ConflictIntervalTracker::State ConflictIntervalTracker::update(Timestamp t, bool evidence) {
+ConflictIntervalTracker::State ConflictIntervalTracker::update(Timestamp t, bool evidence, bool tested) {
   just_entered_ = just_exited_ = false;
+  if (!evidence && !tested) return state_;
   if (state_ != State::kConflict) {
     if (evidence) {
       if (run_ == 0) run_start_ = t;

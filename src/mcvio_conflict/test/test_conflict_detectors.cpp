@@ -191,6 +191,25 @@ TEST(ConflictIntervalTracker, HysteresisOpensAndClosesIntervals) {
   EXPECT_EQ(tr.intervalStart(), 4);
 }
 
+TEST(ConflictIntervalTracker, UntestedFramesNeitherCloseNorBreakARun) {
+  ConflictIntervalTracker tr(2, 3);
+  using S = ConflictIntervalTracker::State;
+  EXPECT_EQ(tr.update(1, true), S::kSuspected);
+  EXPECT_EQ(tr.update(2, false, false), S::kSuspected);  // untested: the evidence run goes on
+  EXPECT_EQ(tr.update(3, true), S::kConflict);
+  EXPECT_EQ(tr.intervalStart(), 1);
+  EXPECT_EQ(tr.update(4, false), S::kConflict);
+  EXPECT_EQ(tr.update(5, false), S::kConflict);
+  // An occluder fills the view: no test, and no count towards the exit, however long.
+  for (Timestamp t = 6; t < 50; ++t) {
+    EXPECT_EQ(tr.update(t, false, false), S::kConflict);
+    EXPECT_FALSE(tr.justExited());
+  }
+  EXPECT_EQ(tr.update(50, false), S::kNone);  // the third clean tested frame
+  EXPECT_TRUE(tr.justExited());
+  EXPECT_EQ(tr.update(51, true, false), S::kSuspected);  // evidence counts even from a partial test
+}
+
 TEST(LandmarkMotionClassifier, NeedsRepeatedDisagreementAndStaysEliminated) {
   LandmarkMotionClassifier c(2);
   EXPECT_FALSE(c.addVerdict(1, true));

@@ -228,7 +228,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   if (!history_.empty()) solveVisionIncrement(history_.back(), imu, &pending_);
 
   const int H = options_.horizon_frames;
-  bool evidence = false, whole = false, rotation_agrees = false;
+  bool evidence = false, whole = false, rotation_agrees = false, tested = false;
   int static_count = 0;
   std::vector<conflict::LandmarkConflictDetector::Verdict> verdicts;
   const bool selective_active = mode == conflict::ResolutionMode::kSelective || mode == conflict::ResolutionMode::kAuto;
@@ -250,6 +250,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
         if (!classifier_.isMoving(p.track_id)) still.push_back(p);
       const auto vis = pose_solver_.solve(still, imu_rel);
       if (vis.valid) {
+        tested = true;
         const auto prop = propagated_detector_.test(imu_rel, vis.motion);
         d.report.propagated_chi2 = prop.chi2;
         const Eigen::Matrix3d S_rot = imu_rel.covariance.block<3, 3>(0, 0) + vis.motion.covariance.block<3, 3>(0, 0);
@@ -263,6 +264,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
       d.report.inconsistent_fraction = lm.fraction;
       d.report.coherence = lm.coherence;
       static_count = lm.tested - lm.inconsistent;
+      if (lm.tested >= options_.min_landmarks_tested) tested = true;
       const bool partial = lm.tested >= options_.min_landmarks_tested && lm.inconsistent >= options_.partial_min_count &&
                            lm.fraction >= options_.partial_min_fraction && lm.coherence >= options_.min_coherence;
       if (lm.tested >= options_.min_landmarks_tested && lm.fraction >= options_.whole_view_fraction) whole = true;
@@ -296,7 +298,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   }
   pending_.evidence = evidence;
 
-  const auto state = tracker_.update(t, evidence);
+  const auto state = tracker_.update(t, evidence, tested);
   // Selective elimination acts only around detected conflicts, so a clean sequence keeps every
   // landmark (and the reference's accuracy). Inside an IMU-dominated interval every landmark
   // disagrees with the inertial motion; that says nothing about which of them move afterwards.

@@ -685,7 +685,9 @@ void SlidingWindowEstimator::solve(EstimatorOutput* out) {
   so.linear_solver_ordering.reset(ordering);
   so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
   so.max_num_iterations = options_.max_iterations;
-  so.function_tolerance = monitor_->conflictActive() ? options_.conflict_function_tolerance : options_.function_tolerance;
+  so.function_tolerance = monitor_->conflictActive() && options_.conflict.mode != conflict::ResolutionMode::kReference
+                              ? options_.conflict_function_tolerance
+                              : options_.function_tolerance;
   so.max_solver_time_in_seconds = options_.max_solver_time_s;
   so.num_threads = options_.num_threads;
   so.logging_type = ceres::SILENT;

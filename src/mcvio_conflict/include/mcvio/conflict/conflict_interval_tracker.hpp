@@ -12,8 +12,11 @@ class ConflictIntervalTracker {
   enum class State { kNone, kSuspected, kConflict };
   ConflictIntervalTracker(int enter_frames, int exit_frames) : enter_(enter_frames), exit_(exit_frames) {}
 
-  /// Feeds one frame; returns the state after it.
-  State update(Timestamp t, bool evidence);
+  /// Feeds one frame; returns the state after it. A frame the detectors could not test (too few
+  /// landmarks, no vision-only motion) and without evidence is no sign the conflict is over:
+  /// it leaves the state and both runs as they are (an occluder filling the view must not count
+  /// down the exit).
+  State update(Timestamp t, bool evidence, bool tested = true);
   State state() const { return state_; }
   bool inConflict() const { return state_ == State::kConflict; }
   bool justEntered() const { return just_entered_; }

@@ -63,7 +63,7 @@ struct ConflictOptions {
   /// the next interval and keep it open.
   double bias_reference_max_change_sigmas = 5.0;
   int enter_frames = 2;                ///< consecutive frames with evidence to open an interval
-  int exit_frames = 10;                ///< consecutive clean frames to close it
+  int exit_frames = 5;                 ///< consecutive clean frames to close it (0.25 s at 20 Hz)
 
   // --- resolution ------------------------------------------------------------------------
   /// Selective: disagreeing verdicts (net of agreeing ones) before a track is eliminated.

@@ -46,7 +46,8 @@ struct EstimatorOptions {
   int max_iterations = 8;
   double function_tolerance = 1e-4;          ///< Ceres stops when the relative cost change is below this
   /// The same while a motion conflict is suspected or open: eliminated landmarks and an inertial
-  /// state moving away from vision take the solution further than one iteration goes.
+  /// state moving away from vision take the solution further than one iteration goes. Not in
+  /// `reference` mode, which stays the plain VIO whatever the detectors report.
   double conflict_function_tolerance = 1e-4;
   /// Wall-clock budget per solve. A guard only by default: when it cuts a solve the result depends
   /// on machine load, so offline and live runs of the same input would differ.
