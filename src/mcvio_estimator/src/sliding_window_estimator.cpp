@@ -930,28 +930,26 @@ void SlidingWindowEstimator::commitToMonitor(EstimatorOutput* out) {
 
 void SlidingWindowEstimator::applyConflictDecision(const MotionConflictMonitor::Decision& decision, Frame& cur) {
   for (const auto id : decision.eliminate) eraseLandmark(id);
+  // Prior sigmas of a restarted window: position, world roll/pitch/yaw, velocity, gyro and accel bias.
   const auto& c = options_.conflict;
+  const auto restartSigmas = [&c](double position, double roll_pitch) {
+    Eigen::Matrix<double, 15, 1> s;
+    s << Eigen::Vector3d::Constant(position), roll_pitch, roll_pitch, c.attitude_sigma_rad,
+        Eigen::Vector3d::Constant(c.velocity_sigma_mps), Eigen::Vector3d::Constant(c.gyro_bias_sigma),
+        Eigen::Vector3d::Constant(c.accel_bias_sigma);
+    return s;
+  };
   if (decision.rewind) {
     // The rewound state is an estimate propagated over dt: its position spreads with the velocity.
     const double dt = toSeconds(cur.t - decision.rewind_t);
-    const double sp = 0.01 + c.velocity_sigma_mps * dt;
-    Eigen::Matrix<double, 15, 1> sigmas;
-    sigmas << sp, sp, sp, c.attitude_sigma_rad, c.attitude_sigma_rad, c.attitude_sigma_rad, c.velocity_sigma_mps,
-        c.velocity_sigma_mps, c.velocity_sigma_mps, c.gyro_bias_sigma, c.gyro_bias_sigma, c.gyro_bias_sigma,
-        c.accel_bias_sigma, c.accel_bias_sigma, c.accel_bias_sigma;
-    restartFrom(cur, decision.rewind_state, sigmas);
+    restartFrom(cur, decision.rewind_state, restartSigmas(0.01 + c.velocity_sigma_mps * dt, c.attitude_sigma_rad));
     spdlog::info("{}motion conflict at t={} ns: IMU-dominated from the state {:.2f} s back, biases held", kLog, cur.t,
                  dt);
   }
   if (decision.restart_on_exit) {
     // Roll and pitch drifted with the gyro over the interval; gravity tells them again, as at a
     // moving start. Position and yaw continue (unobservable), velocity is vision's.
-    const double srp = options_.init_roll_pitch_sigma_moving;
-    Eigen::Matrix<double, 15, 1> sigmas;
-    sigmas << 0.01, 0.01, 0.01, srp, srp, c.attitude_sigma_rad, c.velocity_sigma_mps, c.velocity_sigma_mps,
-        c.velocity_sigma_mps, c.gyro_bias_sigma, c.gyro_bias_sigma, c.gyro_bias_sigma, c.accel_bias_sigma,
-        c.accel_bias_sigma, c.accel_bias_sigma;
-    restartFrom(cur, decision.exit_state, sigmas);
+    restartFrom(cur, decision.exit_state, restartSigmas(0.01, options_.init_roll_pitch_sigma_moving));
     const Eigen::Vector3d& v = decision.exit_state.v;
     spdlog::info(
         "{}motion conflict over at t={} ns: window restarted at vision's velocity ({:.2f}, {:.2f}, {:.2f}) m/s, "
