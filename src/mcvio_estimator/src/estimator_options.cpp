@@ -60,6 +60,8 @@ void EstimatorOptions::validate() const {
           function_tolerance);
   require(conflict_function_tolerance > 0 && conflict_function_tolerance < 1, "conflict_function_tolerance",
           "must be in (0, 1)", conflict_function_tolerance);
+  require(model_agreement_settle_s >= 0 && std::isfinite(model_agreement_settle_s), "model_agreement_settle_s",
+          "must be >= 0", model_agreement_settle_s);
   require(max_solver_time_s > 0, "max_solver_time_s", "must be > 0", max_solver_time_s);
   require(num_threads >= 1, "num_threads", "must be >= 1", num_threads);
   require(init_window_s > 0, "init_window_s", "must be > 0", init_window_s);
@@ -129,6 +131,8 @@ EstimatorOptions EstimatorOptions::fromYaml(const YAML::Node& node, const std::s
   read(node, "max_iterations", &o.max_iterations, c);
   read(node, "function_tolerance", &o.function_tolerance, c);
   read(node, "conflict_function_tolerance", &o.conflict_function_tolerance, c);
+  read(node, "stop_on_model_agreement", &o.stop_on_model_agreement, c);
+  read(node, "model_agreement_settle_s", &o.model_agreement_settle_s, c);
   read(node, "max_solver_time_s", &o.max_solver_time_s, c);
   read(node, "num_threads", &o.num_threads, c);
   read(node, "compute_covariance", &o.compute_covariance, c);

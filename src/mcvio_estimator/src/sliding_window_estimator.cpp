@@ -15,6 +15,7 @@
 #include "mcvio/estimator/anchor_observation_factor.hpp"
 #include "mcvio/estimator/imu_factor.hpp"
 #include "mcvio/estimator/marginalizer.hpp"
+#include "mcvio/estimator/model_agreement_stop.hpp"
 #include "mcvio/estimator/relative_rotation_factor.hpp"
 #include "mcvio/estimator/reprojection_factor.hpp"
 #include "mcvio/estimator/so3.hpp"
@@ -422,6 +423,7 @@ bool SlidingWindowEstimator::initialize(std::unique_ptr<Frame> frame, std::strin
   createLandmarks(newest(), &created);
   initialized_ = true;
   last_vision_t_ = t;
+  settled_t_ = t + fromSeconds(options_.model_agreement_settle_s);
   std::ostringstream os;
   const Eigen::Vector3d g_body = q.conjugate() * Eigen::Vector3d::UnitZ();
   os << "initialised (" << (still ? "static" : "moving") << " start, gyro std " << std_g << " rad/s, accel std " << std_a
@@ -688,6 +690,8 @@ void SlidingWindowEstimator::solve(EstimatorOutput* out) {
   so.function_tolerance = monitor_->conflictActive() && options_.conflict.mode != conflict::ResolutionMode::kReference
                               ? options_.conflict_function_tolerance
                               : options_.function_tolerance;
+  ModelAgreementStop stop(so.function_tolerance);
+  if (options_.stop_on_model_agreement && newest().t >= settled_t_) so.callbacks.push_back(&stop);
   so.max_solver_time_in_seconds = options_.max_solver_time_s;
   so.num_threads = options_.num_threads;
   so.logging_type = ceres::SILENT;
@@ -988,6 +992,7 @@ void SlidingWindowEstimator::restartFrom(Frame& cur, const MotionConflictMonitor
   cur.imu_cost.reset();
   cur.keyframe = true;
   cur.has_speed_bias = true;
+  settled_t_ = cur.t + fromSeconds(options_.model_agreement_settle_s);
   std::unique_ptr<Frame> keep = std::move(frames_.back());
   records_.clear();
   problem_.reset();

@@ -49,6 +49,15 @@ struct EstimatorOptions {
   /// state moving away from vision take the solution further than one iteration goes. Not in
   /// `reference` mode, which stays the plain VIO whatever the detectors report.
   double conflict_function_tolerance = 1e-4;
+  /// Stop right after an accepted step whose actual cost decrease matched the linearised model's
+  /// prediction to within the function tolerance (times the cost). Ceres' own test solves once more
+  /// to find the next step tiny; in a settled window started from the IMU prediction that second
+  /// linear solve is nearly always wasted.
+  bool stop_on_model_agreement = true;
+  /// Seconds after (re)initialisation during which the solve runs to Ceres' own convergence: with
+  /// velocity, gravity and biases still weakly determined, LM damping slows convergence while each
+  /// damped step still matches its model.
+  double model_agreement_settle_s = 3.0;
   /// Wall-clock budget per solve. A guard only by default: when it cuts a solve the result depends
   /// on machine load, so offline and live runs of the same input would differ.
   double max_solver_time_s = 1.0;

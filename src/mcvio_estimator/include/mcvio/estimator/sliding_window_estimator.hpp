@@ -190,6 +190,7 @@ class SlidingWindowEstimator {
   Timestamp last_frame_t_ = 0;
   bool have_last_frame_t_ = false;
   Timestamp last_vision_t_ = 0;
+  Timestamp settled_t_ = 0;  ///< from here on the solve may stop after the first step that meets its model
   Eigen::Vector3d last_good_p_ = Eigen::Vector3d::Zero();
   double last_good_yaw_ = 0;
   EstimatorOutput last_output_;
