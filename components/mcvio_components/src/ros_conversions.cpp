@@ -283,6 +283,8 @@ mcvio_msgs::msg::dds_::MotionConflict_ toMotionConflictMsg(const estimator::Esti
   msg.inconsistent_fraction(c.inconsistent_fraction);
   msg.coherence(c.coherence);
   msg.interval_start(makeHeader(c.interval_start, "").stamp());
+  msg.interval_onset(makeHeader(c.interval_onset, "").stamp());
+  msg.interval_end(makeHeader(c.interval_end, "").stamp());
   msg.resolution_mode(c.resolution_mode);
   return msg;
 }

@@ -203,6 +203,8 @@ TEST(RosConversions, MotionConflictCarriesEveryField) {
   c.inconsistent_fraction = 0.375;
   c.coherence = 0.9;
   c.interval_start = 1403715272500000001;
+  c.interval_onset = 1403715271250000000;
+  c.interval_end = 1403715275000000002;
   c.resolution_mode = "selective";
   const auto msg = toMotionConflictMsg(e, "world");
   EXPECT_EQ(stampOf(msg.header()), e.t);
@@ -215,6 +217,10 @@ TEST(RosConversions, MotionConflictCarriesEveryField) {
   EXPECT_EQ(msg.coherence(), 0.9);
   EXPECT_EQ(msg.interval_start().sec(), 1403715272);
   EXPECT_EQ(msg.interval_start().nanosec(), 500000001u);
+  EXPECT_EQ(msg.interval_onset().sec(), 1403715271);
+  EXPECT_EQ(msg.interval_onset().nanosec(), 250000000u);
+  EXPECT_EQ(msg.interval_end().sec(), 1403715275);
+  EXPECT_EQ(msg.interval_end().nanosec(), 2u);
   EXPECT_EQ(msg.resolution_mode(), "selective");
   e.conflict = {};
   const auto none = toMotionConflictMsg(e, "world");

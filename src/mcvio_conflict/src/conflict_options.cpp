@@ -66,6 +66,9 @@ void ConflictOptions::validate() const {
           bias_reference_max_change_sigmas);
   require(enter_frames >= 1, "enter_frames", "must be >= 1", enter_frames);
   require(exit_frames >= 1, "exit_frames", "must be >= 1", exit_frames);
+  require(onset_min_score > 0 && onset_min_score <= 1, "onset_min_score", "must be in (0, 1]", onset_min_score);
+  require(onset_lookback_frames >= 0 && onset_lookback_frames <= 400, "onset_lookback_frames", "must be in [0, 400]",
+          onset_lookback_frames);
   require(rotation_chi2_threshold > 0, "rotation_chi2_threshold", "must be > 0", rotation_chi2_threshold);
   require(rewind_frames >= 0 && rewind_frames <= 400, "rewind_frames", "must be in [0, 400]", rewind_frames);
   require(hold_min_secondary_speed_mps > 0, "hold_min_secondary_speed_mps", "must be > 0", hold_min_secondary_speed_mps);
@@ -126,6 +129,8 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("bias_reference_max_change_sigmas", &o.bias_reference_max_change_sigmas);
   read("enter_frames", &o.enter_frames);
   read("exit_frames", &o.exit_frames);
+  read("onset_min_score", &o.onset_min_score);
+  read("onset_lookback_frames", &o.onset_lookback_frames);
   read("selective_strikes", &o.selective_strikes);
   read("use_frontend_labels", &o.use_frontend_labels);
   read("auto_min_static_landmarks", &o.auto_min_static_landmarks);

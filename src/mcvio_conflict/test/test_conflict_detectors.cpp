@@ -4,6 +4,8 @@
 #include <Eigen/Dense>
 
 #include <gtest/gtest.h>
+
+#include <limits>
 #include <yaml-cpp/yaml.h>
 
 #include "mcvio/conflict/conflict_interval_tracker.hpp"
@@ -208,6 +210,45 @@ TEST(ConflictIntervalTracker, UntestedFramesNeitherCloseNorBreakARun) {
   EXPECT_EQ(tr.update(50, false), S::kNone);  // the third clean tested frame
   EXPECT_TRUE(tr.justExited());
   EXPECT_EQ(tr.update(51, true, false), S::kSuspected);  // evidence counts even from a partial test
+}
+
+TEST(ConflictIntervalTracker, IntervalInHindsightSpansTheBuildUpAndEndsAtTheLastEvidence) {
+  ConflictIntervalTracker tr(2, 3, 0.1, 5);
+  using S = ConflictIntervalTracker::State;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  tr.update(1, false, true, 0.02);  // noise
+  tr.update(2, false, true, 0.05);
+  tr.update(3, false, true, 0.15);  // the build-up starts
+  tr.update(4, false, false, nan);  // untested: neither extends nor ends it
+  tr.update(5, false, true, 0.6);
+  EXPECT_EQ(tr.update(6, true, true, 1.3), S::kSuspected);
+  EXPECT_EQ(tr.update(7, true, true, 2.0), S::kConflict);
+  EXPECT_EQ(tr.intervalStart(), 6);
+  EXPECT_EQ(tr.intervalOnset(), 3);
+  EXPECT_EQ(tr.intervalEnd(), 0) << "open";
+  tr.update(8, true, true, 3.0);
+  tr.update(9, false, true, 0.5);
+  tr.update(10, false, true, 0.2);
+  EXPECT_EQ(tr.update(11, false, true, 0.1), S::kNone);
+  EXPECT_EQ(tr.intervalEnd(), 8) << "the last frame with evidence";
+  EXPECT_EQ(tr.intervalOnset(), 3);
+  // The next interval: a build-up longer than the look-back is cut at 5 frames.
+  for (Timestamp t = 20; t < 40; ++t) tr.update(t, false, true, 0.5);
+  tr.update(40, true, true, 1.5);
+  EXPECT_EQ(tr.update(41, true, true, 1.5), S::kConflict);
+  EXPECT_EQ(tr.intervalStart(), 40);
+  EXPECT_EQ(tr.intervalOnset(), 35);
+  EXPECT_EQ(tr.intervalEnd(), 0);
+}
+
+TEST(ConflictIntervalTracker, SuddenConflictHasItsOnsetAtTheFirstEvidence) {
+  ConflictIntervalTracker tr(2, 2);
+  for (Timestamp t = 1; t < 10; ++t) tr.update(t, false, true, 0.01);
+  tr.update(10, true, true, 5.0);
+  tr.update(11, true, true, 5.0);
+  EXPECT_TRUE(tr.inConflict());
+  EXPECT_EQ(tr.intervalOnset(), 10);
+  EXPECT_EQ(tr.intervalStart(), 10);
 }
 
 TEST(LandmarkMotionClassifier, NeedsRepeatedDisagreementAndStaysEliminated) {

@@ -1,6 +1,7 @@
 #include "mcvio/estimator/motion_conflict_monitor.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include <Eigen/Dense>
 
@@ -48,7 +49,7 @@ MotionConflictMonitor::MotionConflictMonitor(const conflict::ConflictOptions& op
       pose_solver_(rig, solverOptions(options)),
       propagated_detector_(options.propagated_chi2_threshold),
       landmark_detector_(rig, options),
-      tracker_(options.enter_frames, options.exit_frames),
+      tracker_(options.enter_frames, options.exit_frames, options.onset_min_score, options.onset_lookback_frames),
       classifier_(options.selective_strikes),
       smoother_(smootherOptions(options)) {}
 
@@ -229,6 +230,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
 
   const int H = options_.horizon_frames;
   bool evidence = false, whole = false, rotation_agrees = false, tested = false;
+  double score = 0;  // evidence strength: the statistics relative to their thresholds
   int static_count = 0;
   std::vector<conflict::LandmarkConflictDetector::Verdict> verdicts;
   const bool selective_active = mode == conflict::ResolutionMode::kSelective || mode == conflict::ResolutionMode::kAuto;
@@ -257,6 +259,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
         const Eigen::Vector3d e_rot = prop.error.head<3>();
         rotation_agrees = e_rot.dot(S_rot.ldlt().solve(e_rot)) < options_.rotation_chi2_threshold;
         whole = prop.fired;
+        score = std::max(score, prop.chi2 / options_.propagated_chi2_threshold);
       }
       const auto lm = landmark_detector_.test(pts, imu_rel);
       d.report.landmarks_tested = lm.tested;
@@ -264,7 +267,12 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
       d.report.inconsistent_fraction = lm.fraction;
       d.report.coherence = lm.coherence;
       static_count = lm.tested - lm.inconsistent;
-      if (lm.tested >= options_.min_landmarks_tested) tested = true;
+      if (lm.tested >= options_.min_landmarks_tested) {
+        tested = true;
+        score = std::max({score, lm.fraction / options_.whole_view_fraction,
+                          std::min(static_cast<double>(lm.inconsistent) / options_.partial_min_count,
+                                   lm.fraction / options_.partial_min_fraction)});
+      }
       const bool partial = lm.tested >= options_.min_landmarks_tested && lm.inconsistent >= options_.partial_min_count &&
                            lm.fraction >= options_.partial_min_fraction && lm.coherence >= options_.min_coherence;
       if (lm.tested >= options_.min_landmarks_tested && lm.fraction >= options_.whole_view_fraction) whole = true;
@@ -298,7 +306,12 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   }
   pending_.evidence = evidence;
 
-  const auto state = tracker_.update(t, evidence, tested);
+  // Statistics before the warm-up ends are still settling: no build-up to go back over.
+  const bool scored = tested && frames_since_reset_ >= options_.warmup_frames;
+  const auto state = tracker_.update(t, evidence, tested,
+                                     evidence ? std::max(score, 1.0)
+                                     : scored ? score
+                                              : std::numeric_limits<double>::quiet_NaN());
   // Selective elimination acts only around detected conflicts, so a clean sequence keeps every
   // landmark (and the reference's accuracy). Inside an IMU-dominated interval every landmark
   // disagrees with the inertial motion; that says nothing about which of them move afterwards.
@@ -313,6 +326,8 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
                    : state == conflict::ConflictIntervalTracker::State::kSuspected ? ConflictReport::State::kSuspected
                                                                                     : ConflictReport::State::kNone;
   d.report.interval_start = tracker_.intervalStart();
+  d.report.interval_onset = tracker_.intervalOnset();
+  d.report.interval_end = tracker_.intervalEnd();
 
   if (tracker_.justExited() && imu_dominated_) {
     if (options_.restart_on_exit && !history_.empty()) {

@@ -90,6 +90,8 @@ BenchmarkModeRun runEstimator(const sim::FeatureSequence& seq, const std::string
     r.inconsistent_fraction = out.conflict.inconsistent_fraction;
     r.coherence = out.conflict.coherence;
     r.interval_start = out.conflict.interval_start;
+    r.interval_onset = out.conflict.interval_onset;
+    r.interval_end = out.conflict.interval_end;
     r.resolution_mode = out.conflict.resolution_mode;
     run.detector.push_back(r);
   }
@@ -102,7 +104,8 @@ BenchmarkModeRun runEstimator(const sim::FeatureSequence& seq, const std::string
 
 const std::vector<std::string> kDetectorColumns = {
     "timestamp_ns",          "state",     "propagated_chi2",   "propagated_threshold", "landmarks_tested",
-    "landmarks_inconsistent", "inconsistent_fraction", "coherence", "interval_start_ns", "resolution_mode"};
+    "landmarks_inconsistent", "inconsistent_fraction", "coherence", "interval_start_ns", "resolution_mode",
+    "interval_onset_ns",     "interval_end_ns"};
 
 double percentError(double estimate, double truth) {
   if (!std::isfinite(estimate) || !std::isfinite(truth) || truth == 0) return kNaN;
@@ -267,6 +270,10 @@ BenchmarkSequenceResult BenchmarkSuite::evaluateSequence(const BenchmarkSequence
         run.fn = d.counts.fn;
         run.tpr = d.counts.tpr();
         run.fpr = d.counts.fpr();
+        if (d.has_hindsight) {
+          run.hindsight_tpr = d.hindsight.tpr();
+          run.hindsight_fpr = d.hindsight.fpr();
+        }
         for (const auto& roc : d.roc) {
           if (roc.score == "propagated_chi2_ratio") run.auc_propagated = roc.auc;
           if (roc.score == "inconsistent_fraction") run.auc_fraction = roc.auc;

@@ -79,6 +79,11 @@ DetectionResult evaluateDetection(const DetectorLog& log, const ConflictLabelTim
   DetectionResult r;
   std::vector<bool> label_seen(labels.labels().size(), false);
   std::vector<double> ratio_scores, fraction_scores;
+  r.has_hindsight = log.hasHindsightIntervals();
+  const auto intervals = r.has_hindsight ? log.hindsightIntervals() : std::vector<std::pair<Timestamp, Timestamp>>{};
+  const auto inInterval = [&](Timestamp t) {
+    return std::any_of(intervals.begin(), intervals.end(), [&](const auto& iv) { return t >= iv.first && t <= iv.second; });
+  };
   for (const auto& row : log.records()) {
     const auto index = labels.labelIndexAt(row.t, options.label_tolerance_s);
     if (!index) {
@@ -93,6 +98,14 @@ DetectionResult evaluateDetection(const DetectorLog& log, const ConflictLabelTim
       (detected ? r.counts.tp : r.counts.fn) += 1;
     } else {
       (detected ? r.counts.fp : r.counts.tn) += 1;
+    }
+    if (r.has_hindsight) {
+      const bool in_hindsight = inInterval(row.t);
+      if (labelled) {
+        (in_hindsight ? r.hindsight.tp : r.hindsight.fn) += 1;
+      } else {
+        (in_hindsight ? r.hindsight.fp : r.hindsight.tn) += 1;
+      }
     }
     ++r.frames;
     r.times.push_back(row.t);

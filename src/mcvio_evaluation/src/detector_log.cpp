@@ -16,7 +16,8 @@ namespace {
 const std::vector<std::string> kDefaultColumns = {
     "timestamp_ns",          "state",          "propagated_chi2", "propagated_threshold",
     "landmarks_tested",      "landmarks_inconsistent", "inconsistent_fraction",
-    "coherence",             "interval_start_ns",      "resolution_mode"};
+    "coherence",             "interval_start_ns",      "resolution_mode",
+    "interval_onset_ns",     "interval_end_ns"};
 
 std::string trim(std::string s) {
   const auto not_space = [](unsigned char c) { return !std::isspace(c); };
@@ -71,13 +72,26 @@ DetectorLog::DetectorLog(std::vector<DetectorRecord> records, std::vector<std::s
                          std::string source)
     : records_(std::move(records)), columns_(std::move(columns)), source_(std::move(source)) {}
 
+std::vector<std::pair<Timestamp, Timestamp>> DetectorLog::hindsightIntervals() const {
+  std::vector<std::pair<Timestamp, Timestamp>> intervals;
+  for (const auto& r : records_) {
+    if (r.interval_onset == 0) continue;
+    if (intervals.empty() || intervals.back().first != r.interval_onset) intervals.emplace_back(r.interval_onset, 0);
+    if (r.interval_end != 0) intervals.back().second = r.interval_end;
+  }
+  for (auto& iv : intervals)
+    if (iv.second == 0) iv.second = records_.back().t;  // still open at the end of the run
+  return intervals;
+}
+
 bool DetectorLog::hasColumn(const std::string& name) const {
   return std::find(columns_.begin(), columns_.end(), name) != columns_.end();
 }
 
 DetectorLog DetectorLog::load(const std::string& path) {
   std::vector<std::string> columns = readHeader(path);
-  if (columns.empty()) columns = kDefaultColumns;
+  const bool headerless = columns.empty();
+  if (headerless) columns = kDefaultColumns;
   std::map<std::string, std::size_t> index;
   for (std::size_t i = 0; i < columns.size(); ++i) index.emplace(columns[i], i);
   for (const char* required : {"timestamp_ns", "state"}) {
@@ -100,10 +114,19 @@ DetectorLog DetectorLog::load(const std::string& path) {
              c_tested = column("landmarks_tested"), c_incons = column("landmarks_inconsistent"),
              c_frac = column("inconsistent_fraction"), c_coh = column("coherence"),
              c_start = column("interval_start_ns"), c_mode = column("resolution_mode");
+  long c_onset = column("interval_onset_ns"), c_end = column("interval_end_ns");
 
   dataset::CsvReader csv(path);
   std::vector<DetectorRecord> records;
   while (csv.nextRow()) {
+    // Files from before the hindsight columns: the first ten.
+    if (headerless && records.empty() && csv.fieldCount() == kDefaultColumns.size() - 2 &&
+        columns.size() == kDefaultColumns.size()) {
+      columns.resize(kDefaultColumns.size() - 2);
+      index.erase("interval_onset_ns");
+      index.erase("interval_end_ns");
+      c_onset = c_end = -1;
+    }
     if (csv.fieldCount() != columns.size()) {
       csv.fail("row has " + std::to_string(csv.fieldCount()) + " columns, the header " +
                std::to_string(columns.size()));
@@ -137,6 +160,17 @@ DetectorLog DetectorLog::load(const std::string& path) {
     number(c_coh, "coherence", r.coherence);
     if (c_start >= 0) r.interval_start = csv.int64At(static_cast<std::size_t>(c_start), "interval_start_ns");
     if (c_mode >= 0) r.resolution_mode = std::string(csv.field(static_cast<std::size_t>(c_mode)));
+    const auto stamp = [&](long c, const char* name, Timestamp& out) {
+      if (c < 0) return;
+      out = csv.int64At(static_cast<std::size_t>(c), name);
+      if (out < 0) csv.fail(std::string("column '") + name + "': " + std::to_string(out) + " is negative");
+    };
+    stamp(c_onset, "interval_onset_ns", r.interval_onset);
+    stamp(c_end, "interval_end_ns", r.interval_end);
+    if (r.interval_end != 0 && r.interval_end < r.interval_onset) {
+      csv.fail("column 'interval_end_ns': " + std::to_string(r.interval_end) + " precedes interval_onset_ns " +
+               std::to_string(r.interval_onset));
+    }
     if (!records.empty() && r.t <= records.back().t) {
       csv.fail("column 'timestamp_ns': " + std::to_string(r.t) + " does not increase (previous " +
                std::to_string(records.back().t) + ")");

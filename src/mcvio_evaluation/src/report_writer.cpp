@@ -82,6 +82,13 @@ json asJson(const DetectionResult& d) {
           {"fpr", number(d.counts.fpr())},
           {"precision", number(d.counts.precision())},
           {"f1", number(d.counts.f1())},
+          {"hindsight", d.has_hindsight ? json{{"tp", d.hindsight.tp},
+                                               {"fp", d.hindsight.fp},
+                                               {"tn", d.hindsight.tn},
+                                               {"fn", d.hindsight.fn},
+                                               {"tpr", number(d.hindsight.tpr())},
+                                               {"fpr", number(d.hindsight.fpr())}}
+                                        : json(nullptr)},
           {"roc", roc}};
 }
 
@@ -144,6 +151,10 @@ std::vector<MetricRow> metricRows(const EvaluationReport& report) {
     };
     rows.push_back({"detection_tpr", "Detection TPR (per frame)", 3, false, det([](const auto& d) { return d.counts.tpr(); })});
     rows.push_back({"detection_fpr", "Detection FPR (per frame)", 3, false, det([](const auto& d) { return d.counts.fpr(); })});
+    rows.push_back({"detection_tpr_hindsight", "Detection TPR (intervals in hindsight)", 3, false,
+                    det([](const auto& d) { return d.has_hindsight ? d.hindsight.tpr() : kNaN; })});
+    rows.push_back({"detection_fpr_hindsight", "Detection FPR (intervals in hindsight)", 3, false,
+                    det([](const auto& d) { return d.has_hindsight ? d.hindsight.fpr() : kNaN; })});
     rows.push_back({"detection_precision", "Detection precision", 3, false, det([](const auto& d) { return d.counts.precision(); })});
     rows.push_back({"detection_f1", "Detection F1", 3, false, det([](const auto& d) { return d.counts.f1(); })});
     rows.push_back({"auc_propagated_chi2_ratio", "ROC AUC, chi2 / threshold", 3, false,

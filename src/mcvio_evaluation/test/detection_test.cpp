@@ -174,6 +174,47 @@ TEST(DetectorLog, ReadsTheFullFormat) {
   EXPECT_NEAR(r.propagatedRatio(), 30.5 / 12.59, 1e-12);
 }
 
+TEST(DetectorLog, IntervalsInHindsight) {
+  const std::string dir = test::freshDir("detector_hindsight");
+  const std::string h = "timestamp_ns,state,interval_start_ns,interval_onset_ns,interval_end_ns\n";
+  test::writeText(dir + "/conflict.csv", h +
+                                             "1000,none,0,0,0\n"
+                                             "2000,suspected,0,0,0\n"
+                                             "3000,conflict,2000,1500,0\n"
+                                             "4000,conflict,2000,1500,0\n"
+                                             "5000,none,2000,1500,3500\n"  // closed: last evidence at 3500
+                                             "6000,none,2000,1500,3500\n"
+                                             "7000,conflict,7000,6500,0\n"   // still open at the end
+                                             "8000,conflict,7000,6500,0\n");
+  const DetectorLog log = DetectorLog::load(dir + "/conflict.csv");
+  ASSERT_TRUE(log.hasHindsightIntervals());
+  const auto iv = log.hindsightIntervals();
+  ASSERT_EQ(iv.size(), 2u);
+  EXPECT_EQ(iv[0], std::make_pair(Timestamp{1500}, Timestamp{3500}));
+  EXPECT_EQ(iv[1], std::make_pair(Timestamp{6500}, Timestamp{8000}));
+  EXPECT_EQ(log.records()[4].interval_end, 3500);
+
+  // Labels: conflict over frames 2..4 and 7..8 of 1 us spacing.
+  const std::string ldir = test::freshDir("detector_hindsight_labels");
+  std::filesystem::create_directories(ldir + "/mav0");
+  test::writeText(ldir + "/mav0/conflict_labels.csv",
+                  "#timestamp [ns],in_conflict,motion,covered_fraction\n1000,0,none,0\n2000,1,elevator,1\n3000,1,elevator,1\n"
+                  "4000,1,elevator,1\n5000,0,none,0\n6000,0,none,0\n7000,1,elevator,1\n8000,1,elevator,1\n");
+  DetectionOptions o;
+  o.label_tolerance_s = 1e-7;
+  const auto d = evaluateDetection(log, ConflictLabelTimeline::load(ldir), o);
+  // Online: frames 3, 4, 7, 8 detected of 2, 3, 4, 7, 8.
+  EXPECT_EQ(d.counts.tp, 4u);
+  EXPECT_EQ(d.counts.fn, 1u);
+  // In hindsight [1500, 3500] and [6500, 8000]: frame 2 and 3 in, frame 4 (after the last
+  // evidence) out.
+  ASSERT_TRUE(d.has_hindsight);
+  EXPECT_EQ(d.hindsight.tp, 4u);
+  EXPECT_EQ(d.hindsight.fn, 1u);
+  EXPECT_EQ(d.hindsight.fp, 0u);
+  EXPECT_EQ(d.hindsight.tn, 3u);
+}
+
 TEST(DetectorLog, ToleratesMissingOptionalColumnsInAnyOrder) {
   const std::string dir = test::freshDir("detector_partial");
   test::writeText(dir + "/conflict.csv", "# state,inconsistent_fraction,timestamp_ns\nnone,0.1,1000\nconflict,0.7,2000\n");
@@ -184,6 +225,15 @@ TEST(DetectorLog, ToleratesMissingOptionalColumnsInAnyOrder) {
   EXPECT_EQ(log.records()[1].t, 2000);
   EXPECT_DOUBLE_EQ(log.records()[1].inconsistent_fraction, 0.7);
   EXPECT_EQ(log.records()[1].landmarks_tested, -1);
+  // Without a header: the full order, with or without the two hindsight columns.
+  test::writeText(dir + "/old.csv", "1000,none,1,12,4,0,0,0,0,reference\n2000,conflict,30,12,4,3,0.7,1,2000,imu\n");
+  const DetectorLog old = DetectorLog::load(dir + "/old.csv");
+  ASSERT_EQ(old.size(), 2u);
+  EXPECT_FALSE(old.hasHindsightIntervals());
+  test::writeText(dir + "/new.csv", "1000,none,1,12,4,0,0,0,0,reference,0,0\n2000,conflict,30,12,4,3,0.7,1,2000,imu,1500,0\n");
+  const DetectorLog now = DetectorLog::load(dir + "/new.csv");
+  ASSERT_TRUE(now.hasHindsightIntervals());
+  EXPECT_EQ(now.records()[1].interval_onset, 1500);
 }
 
 TEST(DetectorLog, MalformedLinesNameFileLineAndColumn) {
@@ -210,6 +260,13 @@ TEST(DetectorLog, MalformedLinesNameFileLineAndColumn) {
 
   e = loadError("det_count", kHeader + "1000,none,1,12,-4,0,0,0,0,reference\n", &path);
   EXPECT_NE(e.find("landmarks_tested"), std::string::npos) << e;
+
+  const std::string hh = "timestamp_ns,state,interval_onset_ns,interval_end_ns\n";
+  e = loadError("det_end", hh + "1000,none,900,800\n", &path);
+  EXPECT_NE(e.find(path + ":2:"), std::string::npos) << e;
+  EXPECT_NE(e.find("interval_end_ns"), std::string::npos) << e;
+  e = loadError("det_onset", hh + "1000,none,-5,0\n", &path);
+  EXPECT_NE(e.find("interval_onset_ns"), std::string::npos) << e;
 
   EXPECT_THROW(DetectorLog::load(test::freshDir("det_missing") + "/conflict.csv"), InputError);
 }

@@ -1,6 +1,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,9 @@ class DemoPipeline {
     double reference_rpe_m = 0, mcvio_rpe_m = 0;          ///< RPE RMSE over 1 s
     double mcvio_tpr = 0, mcvio_fpr = 0;                  ///< per-frame detection against the labels
     bool has_detection = false;
+    /// Against the conflict intervals in hindsight (NaN when the log has none).
+    double mcvio_hindsight_tpr = std::numeric_limits<double>::quiet_NaN();
+    double mcvio_hindsight_fpr = std::numeric_limits<double>::quiet_NaN();
     bool rendered = false;                                ///< false: reused from a previous run
     double render_s = 0, dds_s = 0, reference_s = 0;      ///< wall time of each step
     std::string report_dir, bag_dir;

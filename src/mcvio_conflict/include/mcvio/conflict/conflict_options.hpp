@@ -64,6 +64,11 @@ struct ConflictOptions {
   double bias_reference_max_change_sigmas = 5.0;
   int enter_frames = 2;                ///< consecutive frames with evidence to open an interval
   int exit_frames = 5;                 ///< consecutive clean frames to close it (0.25 s at 20 Hz)
+  /// In hindsight an interval starts where its evidence began to build up: back from the first
+  /// frame of evidence over the frames whose evidence score (the detector statistics relative to
+  /// their thresholds; 1 = a detector fires) stayed at least this high ...
+  double onset_min_score = 0.1;
+  int onset_lookback_frames = 60;      ///< ... and at most this many frames back
 
   // --- resolution ------------------------------------------------------------------------
   /// Selective: disagreeing verdicts (net of agreeing ones) before a track is eliminated.

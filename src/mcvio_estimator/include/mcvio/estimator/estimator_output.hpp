@@ -44,6 +44,10 @@ struct ConflictReport {
   double inconsistent_fraction = 0;
   double coherence = 0;             ///< share of the disagreeing group that one rigid motion explains
   Timestamp interval_start = 0;     ///< start of the current or last conflict interval; 0 if none
+  /// The same interval in hindsight [m-, m+]: where its evidence began to build up, and (once it has
+  /// closed; 0 while open) its last frame with evidence. See ConflictIntervalTracker.
+  Timestamp interval_onset = 0;
+  Timestamp interval_end = 0;
   std::string resolution_mode = "reference";  ///< the mode that acted on this frame
   /// The conflicting group's frame S (cabin, vehicle, carried object) in the world: identity at
   /// the interval start, then its rigid motion; valid only while a coherent group is tracked.

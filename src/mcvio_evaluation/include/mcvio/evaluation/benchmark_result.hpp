@@ -70,6 +70,8 @@ struct BenchmarkRun {
 
   std::size_t tp = 0, fp = 0, tn = 0, fn = 0;
   double tpr = kNaN, fpr = kNaN;
+  /// The same against the run's conflict intervals in hindsight (DetectionResult::hindsight).
+  double hindsight_tpr = kNaN, hindsight_fpr = kNaN;
   /// ROC of the detector scores: the best TPR with FPR <= targets.max_fpr and its score name.
   double roc_best_tpr = kNaN;
   std::string roc_best_score;

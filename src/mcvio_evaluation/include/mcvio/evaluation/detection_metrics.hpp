@@ -57,6 +57,10 @@ struct DetectionResult {
   /// ROC per score column present in the log: "propagated_chi2_ratio" (chi2 / threshold) and
   /// "inconsistent_fraction".
   std::vector<RocCurve> roc;
+  /// The same frames counted against the run's conflict intervals in hindsight (onset where the
+  /// evidence built up, end at the last frame with evidence), when the log has them.
+  bool has_hindsight = false;
+  ConfusionCounts hindsight;
   /// Per matched frame, in time order (for plots).
   std::vector<Timestamp> times;
   std::vector<bool> labelled;

@@ -1,6 +1,7 @@
 #pragma once
 #include <string>
 #include <vector>
+#include <utility>
 
 #include "mcvio/evaluation/detector_record.hpp"
 
@@ -8,7 +9,8 @@ namespace mcvio::evaluation {
 
 /// The per-frame conflict detector output of a run, as `mcvio run` writes OUT/conflict.csv:
 ///   timestamp_ns,state,propagated_chi2,propagated_threshold,landmarks_tested,
-///   landmarks_inconsistent,inconsistent_fraction,coherence,interval_start_ns,resolution_mode
+///   landmarks_inconsistent,inconsistent_fraction,coherence,interval_start_ns,resolution_mode,
+///   interval_onset_ns,interval_end_ns
 /// The header line (with or without a leading '#') says which columns are present and in which
 /// order; only timestamp_ns and state are required, unknown columns are ignored. Without a
 /// header the order above is assumed.
@@ -30,6 +32,11 @@ class DetectorLog {
   bool hasColumn(const std::string& name) const;
   const std::vector<std::string>& columns() const { return columns_; }
   const std::string& source() const { return source_; }
+  /// True if the file has the interval_onset_ns and interval_end_ns columns.
+  bool hasHindsightIntervals() const { return hasColumn("interval_onset_ns") && hasColumn("interval_end_ns"); }
+  /// The conflict intervals [m-, m+] in hindsight, in time order: every interval the rows name by
+  /// its onset, ending where the rows say it closed, or at the last row if it never did.
+  std::vector<std::pair<Timestamp, Timestamp>> hindsightIntervals() const;
 
  private:
   std::vector<DetectorRecord> records_;

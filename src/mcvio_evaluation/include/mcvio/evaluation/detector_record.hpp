@@ -19,6 +19,10 @@ struct DetectorRecord {
   double inconsistent_fraction = std::numeric_limits<double>::quiet_NaN();
   double coherence = std::numeric_limits<double>::quiet_NaN();
   Timestamp interval_start = 0;
+  /// The interval in hindsight [m-, m+] (see ConflictIntervalTracker): its onset, and its end once
+  /// it has closed (0 while open). 0 when the file lacks the columns.
+  Timestamp interval_onset = 0;
+  Timestamp interval_end = 0;
   std::string resolution_mode;
 
   /// propagated_chi2 / propagated_threshold (> 1 means the chi-square test fails); the bare
