@@ -225,8 +225,11 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   pending_.cam1 = cam1;
   have_pending_ = true;
 
-  // Vision-only increment from the previous frame: the body's motion inside whatever it sees.
-  if (!history_.empty()) solveVisionIncrement(history_.back(), imu, &pending_);
+  // Vision-only increment from the previous frame: the body's motion inside whatever it sees. Only
+  // an IMU-dominated interval uses it (secondary motion, vision's rotation and velocity), and only
+  // `imu` and `auto` open one: the reference VIO does not pay for it.
+  const bool can_go_imu = mode == conflict::ResolutionMode::kImu || mode == conflict::ResolutionMode::kAuto;
+  if (!history_.empty() && can_go_imu) solveVisionIncrement(history_.back(), imu, &pending_);
 
   const int H = options_.horizon_frames;
   bool evidence = false, whole = false, rotation_agrees = false, tested = false;
