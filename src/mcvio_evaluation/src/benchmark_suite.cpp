@@ -408,6 +408,12 @@ void BenchmarkSuite::applyTargets(BenchmarkResult& result) {
        [](const BenchmarkRun& r) { return r.ride_error_percent; }, false, t.ride_displacement_tolerance_percent},
       {"added backend CPU <= " + pct(t.max_added_cost_percent) + "%", every,
        [](const BenchmarkRun& r) { return r.added_cost_percent; }, false, t.max_added_cost_percent},
+      // The same detection targets against the conflict intervals in hindsight (onset where the
+      // evidence built up, end at the last evidence); reported, the per-run checks stay online.
+      {"detection TPR in hindsight >= " + pct(t.min_tpr) + " (conflict sequences)", conflict,
+       [](const BenchmarkRun& r) { return r.hindsight_tpr; }, true, t.min_tpr},
+      {"detection FPR in hindsight <= " + pct(t.max_fpr) + " (all sequences)", every,
+       [](const BenchmarkRun& r) { return r.hindsight_fpr; }, false, t.max_fpr},
   };
   auto passes = [](const Spec& spec, double v) {
     return std::isfinite(v) && (spec.higher_is_better ? v >= spec.threshold : v <= spec.threshold);
