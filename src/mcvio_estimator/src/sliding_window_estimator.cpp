@@ -687,11 +687,12 @@ void SlidingWindowEstimator::solve(EstimatorOutput* out) {
   so.linear_solver_ordering.reset(ordering);
   so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
   so.max_num_iterations = options_.max_iterations;
-  so.function_tolerance = monitor_->conflictActive() && options_.conflict.mode != conflict::ResolutionMode::kReference
-                              ? options_.conflict_function_tolerance
-                              : options_.function_tolerance;
+  const bool resolving = monitor_->conflictActive() && options_.conflict.mode != conflict::ResolutionMode::kReference;
+  so.function_tolerance = resolving ? options_.conflict_function_tolerance : options_.function_tolerance;
+  // Not while a conflict is being resolved: eliminated landmarks and held biases move the minimum
+  // further than one step goes, however well that step met its model.
   ModelAgreementStop stop(so.function_tolerance);
-  if (options_.stop_on_model_agreement && newest().t >= settled_t_) so.callbacks.push_back(&stop);
+  if (options_.stop_on_model_agreement && !resolving && newest().t >= settled_t_) so.callbacks.push_back(&stop);
   so.max_solver_time_in_seconds = options_.max_solver_time_s;
   so.num_threads = options_.num_threads;
   so.logging_type = ceres::SILENT;
