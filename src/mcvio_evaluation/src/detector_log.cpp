@@ -123,8 +123,6 @@ DetectorLog DetectorLog::load(const std::string& path) {
     if (headerless && records.empty() && csv.fieldCount() == kDefaultColumns.size() - 2 &&
         columns.size() == kDefaultColumns.size()) {
       columns.resize(kDefaultColumns.size() - 2);
-      index.erase("interval_onset_ns");
-      index.erase("interval_end_ns");
       c_onset = c_end = -1;
     }
     if (csv.fieldCount() != columns.size()) {
