@@ -133,6 +133,7 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("onset_lookback_frames", &o.onset_lookback_frames);
   read("selective_strikes", &o.selective_strikes);
   read("use_frontend_labels", &o.use_frontend_labels);
+  read("new_landmark_probation", &o.new_landmark_probation);
   read("auto_min_static_landmarks", &o.auto_min_static_landmarks);
   read("auto_min_tested_landmarks", &o.auto_min_tested_landmarks);
   read("auto_split_fraction", &o.auto_split_fraction);

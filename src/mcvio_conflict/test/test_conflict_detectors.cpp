@@ -265,6 +265,27 @@ TEST(LandmarkMotionClassifier, NeedsRepeatedDisagreementAndStaysEliminated) {
   EXPECT_FALSE(c.isMoving(1));
 }
 
+TEST(LandmarkMotionClassifier, ATrackIsConfirmedStaticWhileItsLatestVerdictAgreesWithoutStrikes) {
+  LandmarkMotionClassifier c(3);
+  EXPECT_FALSE(c.isConfirmedStatic(7));  // never tested
+  c.addVerdict(7, false);
+  EXPECT_TRUE(c.isConfirmedStatic(7));
+  c.addVerdict(7, true);
+  EXPECT_FALSE(c.isConfirmedStatic(7));
+  c.addVerdict(7, true);
+  c.addVerdict(7, false);  // one strike left: not yet confirmed
+  EXPECT_FALSE(c.isConfirmedStatic(7));
+  c.addVerdict(7, false);
+  EXPECT_TRUE(c.isConfirmedStatic(7));
+  c.clear();
+  EXPECT_FALSE(c.isConfirmedStatic(7));
+  c.addVerdict(8, true);
+  c.addVerdict(8, true);
+  c.addVerdict(8, true);  // moving
+  EXPECT_TRUE(c.isMoving(8));
+  EXPECT_FALSE(c.isConfirmedStatic(8));
+}
+
 TEST(SecondaryMotionTracker, CabinMotionIsInertialMinusVisual) {
   SecondaryMotionTracker s;
   Eigen::Isometry3d T_WB = Eigen::Isometry3d::Identity();

@@ -64,6 +64,7 @@ void MotionConflictMonitor::reset() {
   classifier_.clear();
   secondary_.end();
   smoother_.cancel();
+  active_since_ = 0;
 }
 
 Timestamp MotionConflictMonitor::oldestTimeNeeded() const {
@@ -311,6 +312,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
 
   // Statistics before the warm-up ends are still settling: no build-up to go back over.
   const bool scored = tested && frames_since_reset_ >= options_.warmup_frames;
+  const bool was_active = conflictActive();
   const auto state = tracker_.update(t, evidence, tested,
                                      evidence ? std::max(score, 1.0)
                                      : scored ? score
@@ -325,6 +327,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
       for (const auto id : frontend_inconsistent)
         if (cam0.count(id) != 0 && classifier_.addVerdict(id, true)) d.eliminate.push_back(id);
   }
+  if (!was_active && state != conflict::ConflictIntervalTracker::State::kNone) active_since_ = t;
   d.report.state = state == conflict::ConflictIntervalTracker::State::kConflict    ? ConflictReport::State::kConflict
                    : state == conflict::ConflictIntervalTracker::State::kSuspected ? ConflictReport::State::kSuspected
                                                                                     : ConflictReport::State::kNone;
@@ -434,6 +437,13 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
       break;
   }
   return d;
+}
+
+bool MotionConflictMonitor::onProbation(std::uint64_t track_id, Timestamp created) const {
+  const auto mode = options_.mode;
+  return options_.new_landmark_probation &&
+         (mode == conflict::ResolutionMode::kSelective || mode == conflict::ResolutionMode::kAuto) && !imu_dominated_ &&
+         conflictActive() && created >= active_since_ && !classifier_.isConfirmedStatic(track_id);
 }
 
 bool MotionConflictMonitor::biasSettled(std::size_t i) const {

@@ -463,6 +463,7 @@ void SlidingWindowEstimator::createLandmarks(Frame& frame, int* created) {
     Landmark lm;
     lm.track_id = track;
     lm.anchor_frame = frame.id;
+    lm.created = frame.t;
     lm.param = {n0.x(), n0.y(), 1.0 / depth};
     landmarks_.emplace(track, lm);
     ++*created;
@@ -608,7 +609,7 @@ void SlidingWindowEstimator::solve(EstimatorOutput* out) {
   std::vector<ResidualRecord> pending;
   for (auto& [track, lm] : landmarks_) {
     Frame* anchor = frameById(lm.anchor_frame);
-    if (anchor == nullptr || !(lm.param[2] > 0)) continue;
+    if (anchor == nullptr || !(lm.param[2] > 0) || monitor_->onProbation(track, lm.created)) continue;
     auto& costs = observation_costs_[track];
     auto cachedCost = [&](std::uint64_t frame_id, int camera, bool in_anchor,
                           const Eigen::Vector2d& measured) -> ObservationCost& {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <map>
 #include <random>
 #include <set>
 #include <vector>
@@ -79,6 +80,7 @@ struct Point {
   double walk_start_s = kNever, walk_end_s = kNever;
   Eigen::Vector3d walk_velocity = Eigen::Vector3d::Zero();
   double attach_s = kNever;
+  double appear_s = -kNever;
   double leave_s = kNever;
 
   Eigen::Vector3d world(double s) const {
@@ -130,6 +132,7 @@ std::vector<Point> pedestrian(int count, std::uint64_t first_id, const Eigen::Ve
 struct Frame {
   MotionConflictMonitor::Decision decision;  ///< report completed by commit()
   std::set<std::uint64_t> observed;          ///< tracks with a stereo observation
+  std::set<std::uint64_t> on_probation;      ///< observed tracks held out (created when first observed)
 };
 
 /// Feeds `frames` frames of the scenario to a monitor: IMU up to the frame, process(), commit()
@@ -141,6 +144,7 @@ std::vector<Frame> run(const Scenario& sc, const conflict::ConflictOptions& opti
   ImuBuffer imu;
   Timestamp next_imu = kStart;
   std::vector<Frame> out;
+  std::map<std::uint64_t, Timestamp> first_seen;
   for (int k = 0; k < frames; ++k) {
     const Timestamp t = frameTime(k);
     for (; next_imu <= t; next_imu += kImuPeriod) {
@@ -155,7 +159,7 @@ std::vector<Frame> run(const Scenario& sc, const conflict::ConflictOptions& opti
     MotionConflictMonitor::ObservationMap cam0, cam1;
     Frame f;
     for (const auto& p : sc.points) {
-      if (s >= p.leave_s) continue;
+      if (s >= p.leave_s || s < p.appear_s) continue;
       const Eigen::Vector3d X_B = p.body(s, sc.traj);
       const Eigen::Vector3d c0 = T_C0B * X_B, c1 = T_C1B * X_B;
       if (c0.z() < 0.3 || c1.z() < 0.3) continue;
@@ -168,6 +172,10 @@ std::vector<Frame> run(const Scenario& sc, const conflict::ConflictOptions& opti
       f.observed.insert(p.id);
     }
     f.decision = monitor.process(t, cam0, cam1, {}, imu);
+    for (const auto id : f.observed) {
+      first_seen.emplace(id, t);
+      if (monitor.onProbation(id, first_seen[id])) f.on_probation.insert(id);
+    }
     MotionConflictMonitor::State truth;
     truth.p = sc.traj.position(s);
     truth.v = sc.traj.velocity(s);
@@ -478,4 +486,81 @@ TEST(MotionConflictMonitor, AnIntervalEndingWithAVelocityJumpRestartsAtVisionsVe
   o.restart_min_velocity_jump_mps = 0.2;
   o.restart_on_exit = false;
   for (const auto& f : run(sc, o, frames_total)) EXPECT_FALSE(f.decision.restart_on_exit);
+}
+
+namespace {
+
+// Tracks that appear in view once the pedestrian's interval is open: 30 static points, and 12 more
+// on the walking pedestrian.
+constexpr int kLateFrame = kWalkFrame + 8;
+constexpr std::uint64_t kLateStaticId = 500, kLatePedestrianId = 2000;
+
+Scenario pedestrianSceneWithLateTracks() {
+  Scenario sc = pedestrianScene();
+  auto late_static = staticPoints(30, kLateStaticId, 11);
+  for (auto& p : late_static) p.appear_s = frameSeconds(kLateFrame);
+  auto late_walker = pedestrian(kPedestrianPoints, kLatePedestrianId, Eigen::Vector3d(5.5, -0.6, 0.0), 7);
+  for (auto& p : late_walker) {
+    p.walk_start_s = frameSeconds(kWalkFrame);
+    p.walk_end_s = frameSeconds(kStandFrame);
+    p.walk_velocity = Eigen::Vector3d(0, 1.0, 0);
+    p.appear_s = frameSeconds(kLateFrame);
+    p.leave_s = frameSeconds(kLeaveFrame);
+  }
+  sc.points.insert(sc.points.end(), late_static.begin(), late_static.end());
+  sc.points.insert(sc.points.end(), late_walker.begin(), late_walker.end());
+  return sc;
+}
+
+bool isLateStatic(std::uint64_t id) { return id >= kLateStaticId && id < kLateStaticId + 30; }
+bool isLatePedestrian(std::uint64_t id) { return id >= kLatePedestrianId; }
+
+}  // namespace
+
+TEST(MotionConflictMonitor, TracksBornInAConflictWaitForAConsistentTest) {
+  const conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
+  const auto frames = run(pedestrianSceneWithLateTracks(), o, kPedestrianFrames);
+  const int entry = firstFrame(frames, inConflict);
+  ASSERT_GE(entry, kWalkFrame);
+  ASSERT_LT(entry, kLateFrame);
+  // Tracks seen before the interval are never held out.
+  for (const auto& f : frames)
+    for (const auto id : f.on_probation) EXPECT_TRUE(isLateStatic(id) || isLatePedestrian(id)) << "track " << id;
+  // At first sight every new track waits: none of them has been tested yet.
+  int late_seen = 0;
+  for (const auto id : frames[kLateFrame].observed) {
+    if (!isLateStatic(id) && !isLatePedestrian(id)) continue;
+    ++late_seen;
+    EXPECT_EQ(frames[kLateFrame].on_probation.count(id), 1u) << "track " << id;
+  }
+  EXPECT_GT(late_seen, 20);
+  // Once the horizon has passed, the static ones have agreed with the IMU and are let in; the
+  // walking ones have not (and end up eliminated).
+  const Frame& later = frames[kLateFrame + o.horizon_frames + 3];
+  ASSERT_TRUE(inConflict(later));
+  int static_in = 0, walkers = 0;
+  for (const auto id : later.observed) {
+    if (isLateStatic(id)) static_in += later.on_probation.count(id) == 0 ? 1 : 0;
+    if (isLatePedestrian(id)) ++walkers;
+  }
+  EXPECT_GT(static_in, 20);
+  EXPECT_GT(walkers, 6);
+  std::set<std::uint64_t> eliminated;
+  for (const auto& f : frames) eliminated.insert(f.decision.eliminate.begin(), f.decision.eliminate.end());
+  for (const auto id : later.observed)
+    if (isLatePedestrian(id))
+      EXPECT_TRUE(later.on_probation.count(id) != 0 || eliminated.count(id) != 0) << "walking track " << id << " let in";
+  // After the interval, nothing waits.
+  int closed = kLeaveFrame;
+  while (closed < kPedestrianFrames && inConflict(frames[closed])) ++closed;
+  ASSERT_LT(closed, kPedestrianFrames - 2);
+  for (int k = closed + 1; k < kPedestrianFrames; ++k) EXPECT_TRUE(frames[k].on_probation.empty()) << "frame " << k;
+}
+
+TEST(MotionConflictMonitor, NoProbationInReferenceModeOrWhenDisabled) {
+  conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kReference);
+  for (const auto& f : run(pedestrianSceneWithLateTracks(), o, kPedestrianFrames)) EXPECT_TRUE(f.on_probation.empty());
+  o = withMode(conflict::ResolutionMode::kAuto);
+  o.new_landmark_probation = false;
+  for (const auto& f : run(pedestrianSceneWithLateTracks(), o, kPedestrianFrames)) EXPECT_TRUE(f.on_probation.empty());
 }

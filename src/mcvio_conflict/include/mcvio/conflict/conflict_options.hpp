@@ -75,6 +75,11 @@ struct ConflictOptions {
   int selective_strikes = 2;
   /// Selective: the frontend's inconsistent label counts as a disagreeing verdict.
   bool use_frontend_labels = true;
+  /// Selective: while a conflict is suspected or open, a landmark created after it began stays out
+  /// of the estimate until the landmark detector has found it consistent (it needs the horizon to
+  /// be tested at all). A walking pedestrian keeps bringing new tracks whose pull on the pose came
+  /// before any test could eliminate them.
+  bool new_landmark_probation = true;
   /// Auto: selective needs this many landmarks left that agree with the IMU.
   int auto_min_static_landmarks = 15;
   /// Auto: IMU-dominated (which drops every visual residual) needs at least this many landmarks in

@@ -82,6 +82,9 @@ class MotionConflictMonitor {
   void reset();
 
   bool isEliminated(std::uint64_t track_id) const { return classifier_.isMoving(track_id); }
+  /// Selective resolution holds this landmark (created at `created`) out of the estimate: see
+  /// ConflictOptions::new_landmark_probation.
+  bool onProbation(std::uint64_t track_id, Timestamp created) const;
   bool imuDominated() const { return imu_dominated_; }
   /// A conflict is suspected or open (in any mode, reference included).
   bool conflictActive() const { return tracker_.state() != conflict::ConflictIntervalTracker::State::kNone; }
@@ -146,6 +149,7 @@ class MotionConflictMonitor {
   bool have_reference_bias_ = false;
   int frames_since_reset_ = 0;
   int frames_since_imu_exit_ = -1;  ///< -1: no IMU-dominated interval has ended since the last reset
+  Timestamp active_since_ = 0;      ///< first frame of the current suspected or open conflict
 };
 
 }  // namespace mcvio::estimator

@@ -98,6 +98,7 @@ class SlidingWindowEstimator {
   struct Landmark {
     std::uint64_t track_id = 0;
     std::uint64_t anchor_frame = 0;
+    Timestamp created = 0;  ///< time of the frame that created it
     /// [alpha, beta, rho]: the point in the anchor frame's cam0 is (alpha, beta, 1) / rho.
     std::array<double, 3> param{0.0, 0.0, 1.0};
     double depth() const { return 1.0 / param[2]; }
