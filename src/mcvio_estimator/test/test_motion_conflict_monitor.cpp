@@ -332,16 +332,23 @@ constexpr int kWalkFrame = 100, kStandFrame = 120, kLeaveFrame = 160, kPedestria
 constexpr std::uint64_t kPedestrianId = 1000;
 constexpr int kPedestrianPoints = 12;
 
-Scenario pedestrianScene() {
-  Scenario sc;
-  sc.points = staticPoints(100, 0, 3);
-  auto walker = pedestrian(kPedestrianPoints, kPedestrianId, Eigen::Vector3d(5.5, -0.6, 0.0), 5);
+/// The pedestrian's points (ids from `first_id`), in view from frame `appear_frame`.
+std::vector<Point> walkingPedestrian(std::uint64_t first_id, std::uint32_t seed, int appear_frame) {
+  auto walker = pedestrian(kPedestrianPoints, first_id, Eigen::Vector3d(5.5, -0.6, 0.0), seed);
   for (auto& p : walker) {
     p.walk_start_s = frameSeconds(kWalkFrame);
     p.walk_end_s = frameSeconds(kStandFrame);
     p.walk_velocity = Eigen::Vector3d(0, 1.0, 0);
+    p.appear_s = appear_frame > 0 ? frameSeconds(appear_frame) : -kNever;
     p.leave_s = frameSeconds(kLeaveFrame);
   }
+  return walker;
+}
+
+Scenario pedestrianScene() {
+  Scenario sc;
+  sc.points = staticPoints(100, 0, 3);
+  const auto walker = walkingPedestrian(kPedestrianId, 5, 0);
   sc.points.insert(sc.points.end(), walker.begin(), walker.end());
   return sc;
 }
@@ -499,14 +506,7 @@ Scenario pedestrianSceneWithLateTracks() {
   Scenario sc = pedestrianScene();
   auto late_static = staticPoints(30, kLateStaticId, 11);
   for (auto& p : late_static) p.appear_s = frameSeconds(kLateFrame);
-  auto late_walker = pedestrian(kPedestrianPoints, kLatePedestrianId, Eigen::Vector3d(5.5, -0.6, 0.0), 7);
-  for (auto& p : late_walker) {
-    p.walk_start_s = frameSeconds(kWalkFrame);
-    p.walk_end_s = frameSeconds(kStandFrame);
-    p.walk_velocity = Eigen::Vector3d(0, 1.0, 0);
-    p.appear_s = frameSeconds(kLateFrame);
-    p.leave_s = frameSeconds(kLeaveFrame);
-  }
+  const auto late_walker = walkingPedestrian(kLatePedestrianId, 7, kLateFrame);
   sc.points.insert(sc.points.end(), late_static.begin(), late_static.end());
   sc.points.insert(sc.points.end(), late_walker.begin(), late_walker.end());
   return sc;
