@@ -124,6 +124,37 @@ SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options, 
   geometry.focal_px = focal_px_;
   monitor_ = std::make_unique<MotionConflictMonitor>(options_.conflict, geometry, imu_noise_, gravity_,
                                                      options_.min_depth_m, options_.max_depth_m);
+  // Both windows, the frame being added and some slack.
+  frame_storage_.resize(static_cast<std::size_t>(options_.imu_window_size + options_.keyframe_window_size + 4));
+  for (auto it = frame_storage_.rbegin(); it != frame_storage_.rend(); ++it) free_frames_.push_back(&*it);
+}
+
+void SlidingWindowEstimator::FrameRecycler::operator()(Frame* frame) const {
+  if (owner == nullptr) {
+    delete frame;
+    return;
+  }
+  *frame = Frame{};
+  owner->free_frames_.push_back(frame);
+}
+
+SlidingWindowEstimator::FramePtr SlidingWindowEstimator::makeFrame() {
+  if (free_frames_.empty()) return FramePtr(new Frame, FrameRecycler{nullptr});
+  Frame* f = free_frames_.back();
+  free_frames_.pop_back();
+  return FramePtr(f, FrameRecycler{this});
+}
+
+void SlidingWindowEstimator::placeLandmark(Landmark& lm) {
+  lm.slot = landmark_params_.acquire();
+  if (landmark_params_.moved())
+    for (auto& [track, other] : landmarks_) other.param = landmark_params_.data(other.slot);
+  lm.param = landmark_params_.data(lm.slot);
+}
+
+void SlidingWindowEstimator::clearLandmarks() {
+  landmarks_.clear();
+  landmark_params_.clear();
 }
 
 SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options, const StereoRigCalibration& rig)
@@ -194,7 +225,7 @@ EstimatorOutput SlidingWindowEstimator::addFrame(const FeatureFrame& input) {
 
   // Parse features; bad observations are skipped, never trusted.
   auto parse = [&]() {
-    auto f = std::make_unique<Frame>();
+    auto f = makeFrame();
     f->t = input.t;
     f->frame_index = input.frame_index;
     int invalid = 0, duplicate = 0;
@@ -356,7 +387,7 @@ EstimatorOutput SlidingWindowEstimator::addFrame(const FeatureFrame& input) {
   return out;
 }
 
-bool SlidingWindowEstimator::initialize(std::unique_ptr<Frame> frame, std::string* message) {
+bool SlidingWindowEstimator::initialize(FramePtr frame, std::string* message) {
   const Timestamp t = frame->t;
   const Timestamp window = fromSeconds(options_.init_window_s);
   if (imu_.empty() || imu_.lastTime() < t) {
@@ -417,7 +448,7 @@ bool SlidingWindowEstimator::initialize(std::unique_ptr<Frame> frame, std::strin
   prior_->r = Eigen::VectorXd::Zero(15);
 
   frames_.clear();
-  landmarks_.clear();
+  clearLandmarks();
   frames_.push_back(std::move(frame));
   int created = 0;
   createLandmarks(newest(), &created);
@@ -464,7 +495,10 @@ void SlidingWindowEstimator::createLandmarks(Frame& frame, int* created) {
     lm.track_id = track;
     lm.anchor_frame = frame.id;
     lm.created = frame.t;
-    lm.param = {n0.x(), n0.y(), 1.0 / depth};
+    placeLandmark(lm);
+    lm.param[0] = n0.x();
+    lm.param[1] = n0.y();
+    lm.param[2] = 1.0 / depth;
     landmarks_.emplace(track, lm);
     ++*created;
   }
@@ -637,7 +671,7 @@ void SlidingWindowEstimator::solve(EstimatorOutput* out) {
         if (it == map.end()) continue;
         if (f.get() == anchor) {
           ceres::CostFunction* cost = cachedCost(f->id, c, true, it->second).cost.get();
-          pending.emplace_back(cost, loss_.get(), std::initializer_list<double*>{lm.param.data()}, ResidualKind::kVisual);
+          pending.emplace_back(cost, loss_.get(), std::initializer_list<double*>{lm.param}, ResidualKind::kVisual);
           pending.back().track_id = track;
           pending.back().frame_id = f->id;
           pending.back().camera = c;
@@ -645,9 +679,9 @@ void SlidingWindowEstimator::solve(EstimatorOutput* out) {
         }
         auto* cost = static_cast<ReprojectionFactor*>(cachedCost(f->id, c, false, it->second).cost.get());
         Eigen::Vector3d p_C;
-        if (!cost->pointInCamera(anchor->pose.data(), f->pose.data(), lm.param.data(), &p_C)) continue;
+        if (!cost->pointInCamera(anchor->pose.data(), f->pose.data(), lm.param, &p_C)) continue;
         pending.emplace_back(cost, loss_.get(),
-                             std::initializer_list<double*>{anchor->pose.data(), f->pose.data(), lm.param.data()},
+                             std::initializer_list<double*>{anchor->pose.data(), f->pose.data(), lm.param},
                              ResidualKind::kVisual);
         pending.back().track_id = track;
         pending.back().frame_id = f->id;
@@ -658,8 +692,8 @@ void SlidingWindowEstimator::solve(EstimatorOutput* out) {
     bool constrains_pose = false;
     for (const auto& r : pending) constrains_pose |= r.num_params > 1;
     if (constrains_pose) {
-      problem.AddParameterBlock(lm.param.data(), 3);
-      ordering->AddElementToGroup(lm.param.data(), 0);
+      problem.AddParameterBlock(lm.param, 3);
+      ordering->AddElementToGroup(lm.param, 0);
       ++n_landmarks;
       for (auto& r : pending) {
         problem.AddResidualBlock(r.cost, r.loss, r.params(), r.num_params);
@@ -732,7 +766,11 @@ void SlidingWindowEstimator::eraseLandmark(std::uint64_t track_id) {
     f->cam0.erase(track_id);
     f->cam1.erase(track_id);
   }
-  landmarks_.erase(track_id);
+  const auto it = landmarks_.find(track_id);
+  if (it != landmarks_.end()) {
+    landmark_params_.release(it->second.slot);
+    landmarks_.erase(it);
+  }
   for (auto& r : records_)
     if (r.kind == ResidualKind::kVisual && r.track_id == track_id) r.valid = false;
 }
@@ -766,7 +804,7 @@ void SlidingWindowEstimator::computeCovariance(EstimatorOutput* out) {
     m.addParameterBlock(f->pose.data(), BlockKind::kPose, 7);
     if (f->has_speed_bias) m.addParameterBlock(f->sb.data(), BlockKind::kEuclidean, 9);
   }
-  for (auto& [track, lm] : landmarks_) m.addParameterBlock(lm.param.data(), BlockKind::kLandmark, 3);
+  for (auto& [track, lm] : landmarks_) m.addParameterBlock(lm.param, BlockKind::kLandmark, 3);
   for (const auto& r : records_)
     if (r.valid) m.addResidualBlock(r.cost, r.loss, r.params(), r.num_params);
   Eigen::MatrixXd cov;
@@ -786,7 +824,7 @@ void SlidingWindowEstimator::marginalizeWith(const std::vector<const ResidualRec
     m.addParameterBlock(f->pose.data(), BlockKind::kPose, 7);
     if (f->has_speed_bias) m.addParameterBlock(f->sb.data(), BlockKind::kEuclidean, 9);
   }
-  for (auto& [track, lm] : landmarks_) m.addParameterBlock(lm.param.data(), BlockKind::kLandmark, 3);
+  for (auto& [track, lm] : landmarks_) m.addParameterBlock(lm.param, BlockKind::kLandmark, 3);
   for (const auto* r : records) m.addResidualBlock(r->cost, r->loss, r->params(), r->num_params);
   try {
     prior_ = m.marginalize(drop);
@@ -818,7 +856,9 @@ bool SlidingWindowEstimator::reanchor(Landmark& lm, std::uint64_t leaving_frame)
     if (!(p_C.z() >= options_.min_depth_m && p_C.z() <= options_.max_depth_m)) return false;
     // The estimate moves to the new anchor unchanged; the new anchor's observations stay residuals.
     lm.anchor_frame = f->id;
-    lm.param = {p_C.x() / p_C.z(), p_C.y() / p_C.z(), 1.0 / p_C.z()};
+    lm.param[0] = p_C.x() / p_C.z();
+    lm.param[1] = p_C.y() / p_C.z();
+    lm.param[2] = 1.0 / p_C.z();
     return true;
   }
   return false;
@@ -881,7 +921,7 @@ void SlidingWindowEstimator::marginalizeOldestKeyframe() {
   auto consider = [&](std::uint64_t track) {
     const auto it = landmarks_.find(track);
     if (it == landmarks_.end() || alive.count(track) != 0) return;
-    if (dead.insert(track).second) drop.insert(it->second.param.data());
+    if (dead.insert(track).second) drop.insert(it->second.param);
   };
   for (const auto& [t, n] : k0.cam0) consider(t);
   for (const auto& [t, n] : k0.cam1) consider(t);
@@ -918,7 +958,7 @@ void SlidingWindowEstimator::reset(const std::string& reason) {
   extra_costs_.clear();
   observation_costs_.clear();
   frames_.clear();
-  landmarks_.clear();
+  clearLandmarks();
   prior_.reset();
   initialized_ = false;
   monitor_->reset();
@@ -969,7 +1009,7 @@ void SlidingWindowEstimator::applyConflictDecision(const MotionConflictMonitor::
   }
   if (!decision.imu_dominated) return;
   // A conflicting camera must neither move the state nor bend the biases.
-  landmarks_.clear();
+  clearLandmarks();
   for (auto& f : frames_) {
     f->cam0.clear();
     f->cam1.clear();
@@ -995,14 +1035,14 @@ void SlidingWindowEstimator::restartFrom(Frame& cur, const MotionConflictMonitor
   cur.keyframe = true;
   cur.has_speed_bias = true;
   settled_t_ = cur.t + fromSeconds(options_.model_agreement_settle_s);
-  std::unique_ptr<Frame> keep = std::move(frames_.back());
+  FramePtr keep = std::move(frames_.back());
   records_.clear();
   problem_.reset();
   extra_costs_.clear();
   observation_costs_.clear();
   frames_.clear();
   frames_.push_back(std::move(keep));
-  landmarks_.clear();
+  clearLandmarks();
   setStatePrior(cur, sigmas);
 }
 

@@ -21,6 +21,7 @@
 #include "mcvio/estimator/imu_preintegrator.hpp"
 #include "mcvio/estimator/marginalization_prior.hpp"
 #include "mcvio/estimator/motion_conflict_monitor.hpp"
+#include "mcvio/estimator/parameter_block_pool.hpp"
 #include "mcvio/estimator/pose_manifold.hpp"
 
 namespace ceres {
@@ -99,10 +100,19 @@ class SlidingWindowEstimator {
     std::uint64_t track_id = 0;
     std::uint64_t anchor_frame = 0;
     Timestamp created = 0;  ///< time of the frame that created it
-    /// [alpha, beta, rho]: the point in the anchor frame's cam0 is (alpha, beta, 1) / rho.
-    std::array<double, 3> param{0.0, 0.0, 1.0};
+    /// [alpha, beta, rho]: the point in the anchor frame's cam0 is (alpha, beta, 1) / rho. Lives
+    /// in landmark_params_ at `slot`.
+    double* param = nullptr;
+    std::uint32_t slot = 0;
     double depth() const { return 1.0 / param[2]; }
   };
+  /// Frames live in frame_storage_ (one array, see ParameterBlockPool for why addresses matter)
+  /// and go back to it when released; beyond its size they come from the heap.
+  struct FrameRecycler {
+    SlidingWindowEstimator* owner = nullptr;
+    void operator()(Frame* frame) const;
+  };
+  using FramePtr = std::unique_ptr<Frame, FrameRecycler>;
   enum class ResidualKind { kImu, kPrior, kZeroVelocity, kVisual, kVisionRotation };
   struct ResidualRecord {
     ResidualRecord(ceres::CostFunction* cost_function, ceres::LossFunction* loss_function,
@@ -133,7 +143,11 @@ class SlidingWindowEstimator {
     std::unique_ptr<ceres::CostFunction> cost;
   };
 
-  bool initialize(std::unique_ptr<Frame> frame, std::string* message);
+  FramePtr makeFrame();
+  /// Gives a new landmark its parameter block.
+  void placeLandmark(Landmark& lm);
+  void clearLandmarks();
+  bool initialize(FramePtr frame, std::string* message);
   Frame* frameById(std::uint64_t id);
   Frame& newest() { return *frames_.back(); }
   void createLandmarks(Frame& frame, int* created);
@@ -174,7 +188,10 @@ class SlidingWindowEstimator {
   std::unique_ptr<MotionConflictMonitor> monitor_;
 
   ImuBuffer imu_;
-  std::deque<std::unique_ptr<Frame>> frames_;
+  std::vector<Frame> frame_storage_;  ///< declared before frames_: released frames return here
+  std::vector<Frame*> free_frames_;
+  std::deque<FramePtr> frames_;
+  ParameterBlockPool landmark_params_{3};
   std::unordered_map<std::uint64_t, Landmark> landmarks_;
   std::shared_ptr<MarginalizationPrior> prior_;
   std::vector<ResidualRecord> records_;  ///< residuals of the last solve
