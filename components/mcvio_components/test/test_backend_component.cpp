@@ -193,8 +193,10 @@ std::vector<Pose> runOverDdsAndCheckTheEstimatorStage(const std::string& dir, in
   std::cout << "backend vs offline estimator on the same features: " << odometry.size() << " poses, max difference "
             << dp << " m, " << dq << " rad; backend latency mean " << stats.latency_ms_mean << " ms, max "
             << stats.latency_ms_max << " ms; estimator CPU mean " << stats.estimator_cpu_ms_mean << " ms\n";
-  EXPECT_LT(dp, 1e-6);
-  EXPECT_LT(dq, 1e-6);
+  // Bit for bit (the estimator's blocks live in its own pools, so its arithmetic does not follow
+  // the heap of the process it runs in); the rotation's distance carries acos rounding only.
+  EXPECT_EQ(dp, 0.0);
+  EXPECT_LT(dq, 1e-12);
   return odometry;
 }
 
