@@ -86,6 +86,7 @@ void ConflictOptions::validate() const {
   require(auto_split_fraction > 0 && auto_split_fraction <= 1, "auto_split_fraction", "must be in (0, 1]",
           auto_split_fraction);
   require(selective_strikes >= 1, "selective_strikes", "must be >= 1", selective_strikes);
+  require(probation_agreeing_tests >= 1, "probation_agreeing_tests", "must be >= 1", probation_agreeing_tests);
   require(auto_min_static_landmarks >= 0, "auto_min_static_landmarks", "must be >= 0", auto_min_static_landmarks);
   require(auto_min_tested_landmarks >= 0, "auto_min_tested_landmarks", "must be >= 0",
           auto_min_tested_landmarks);
@@ -134,6 +135,7 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("selective_strikes", &o.selective_strikes);
   read("use_frontend_labels", &o.use_frontend_labels);
   read("new_landmark_probation", &o.new_landmark_probation);
+  read("probation_agreeing_tests", &o.probation_agreeing_tests);
   read("auto_min_static_landmarks", &o.auto_min_static_landmarks);
   read("auto_min_tested_landmarks", &o.auto_min_tested_landmarks);
   read("auto_split_fraction", &o.auto_split_fraction);

@@ -286,6 +286,22 @@ TEST(LandmarkMotionClassifier, ATrackIsConfirmedStaticWhileItsLatestVerdictAgree
   EXPECT_FALSE(c.isConfirmedStatic(8));
 }
 
+TEST(LandmarkMotionClassifier, ConfirmationNeedsConsecutiveAgreeingVerdicts) {
+  LandmarkMotionClassifier c(2, 3);
+  c.addVerdict(5, false);
+  c.addVerdict(5, false);
+  EXPECT_FALSE(c.isConfirmedStatic(5));
+  c.addVerdict(5, false);
+  EXPECT_TRUE(c.isConfirmedStatic(5));
+  c.addVerdict(5, true);  // a disagreeing test starts the count again
+  EXPECT_FALSE(c.isConfirmedStatic(5));
+  c.addVerdict(5, false);
+  c.addVerdict(5, false);
+  EXPECT_FALSE(c.isConfirmedStatic(5));
+  c.addVerdict(5, false);
+  EXPECT_TRUE(c.isConfirmedStatic(5));
+}
+
 TEST(SecondaryMotionTracker, CabinMotionIsInertialMinusVisual) {
   SecondaryMotionTracker s;
   Eigen::Isometry3d T_WB = Eigen::Isometry3d::Identity();

@@ -50,7 +50,7 @@ MotionConflictMonitor::MotionConflictMonitor(const conflict::ConflictOptions& op
       propagated_detector_(options.propagated_chi2_threshold),
       landmark_detector_(rig, options),
       tracker_(options.enter_frames, options.exit_frames, options.onset_min_score, options.onset_lookback_frames),
-      classifier_(options.selective_strikes),
+      classifier_(options.selective_strikes, options.probation_agreeing_tests),
       smoother_(smootherOptions(options)) {}
 
 void MotionConflictMonitor::reset() {
