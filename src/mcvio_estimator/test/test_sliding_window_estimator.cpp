@@ -76,10 +76,8 @@ TEST(SlidingWindowEstimator, MovingStart) {
 }
 
 // Offline and live runs of the same input must give the same trajectory: nothing may depend on
-// wall-clock time or machine load. (Bit-exact equality is not promised: Ceres orders parameter
-// blocks of one elimination group by address, which changes floating-point summation order.)
-// Bit for bit, whatever else the process has allocated: Ceres orders an elimination group's
-// blocks by address, so frames and landmarks live in the estimator's own pools.
+// wall-clock time, machine load or what else the process has allocated (Ceres orders an
+// elimination group's blocks by address, so frames and landmarks live in the estimator's pools).
 TEST(SlidingWindowEstimator, DeterministicTrajectory) {
   SyntheticConfig cfg;
   cfg.duration_s = 8.0;
