@@ -183,8 +183,8 @@ TEST(VioPipeline, TwoThreadStagesFeedTheEstimatorTheSameInputAsOneThread) {
     const auto &a = sequential[i].estimate, &b = staged[i].estimate;
     ASSERT_EQ(a.status, b.status) << "frame " << i;
     tracking += a.status == estimator::EstimatorStatus::kTracking;
-    // The estimator is not bit-reproducible even between two one-thread runs (Ceres orders
-    // parameter blocks by address), so its output is compared with a tolerance.
+    // The estimator is bit-reproducible (its blocks live in its own pools, see
+    // ParameterBlockPool); the tolerance dates from before and only leaves a margin.
     EXPECT_LT((a.p_WB - b.p_WB).norm(), 1e-7) << "frame " << i;
     EXPECT_LT((a.bias.gyro - b.bias.gyro).norm(), 1e-9) << "frame " << i;
   }
