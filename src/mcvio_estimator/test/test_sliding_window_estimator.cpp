@@ -330,6 +330,7 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_EQ(c.exit_frames, dc.exit_frames);
   EXPECT_EQ(c.new_landmark_probation, dc.new_landmark_probation);
   EXPECT_EQ(c.probation_agreeing_tests, dc.probation_agreeing_tests);
+  EXPECT_EQ(c.exit_bias_hold_frames, dc.exit_bias_hold_frames);
   EXPECT_EQ(root["conflict"].size(), 43u) << "every conflict option appears once";
 }
 

@@ -82,6 +82,11 @@ void BenchmarkOptions::validate() const {
   } catch (const InputError& e) {
     throw std::invalid_argument(std::string("features: ") + e.what());
   }
+  try {
+    estimator.validate();
+  } catch (const std::exception& e) {
+    throw std::invalid_argument(std::string("estimator: ") + e.what());
+  }
   const auto& t = targets;
   require(t.min_tpr >= 0 && t.min_tpr <= 1, "targets.min_tpr: must be in [0, 1]");
   require(t.max_fpr >= 0 && t.max_fpr <= 1, "targets.max_fpr: must be in [0, 1]");

@@ -53,8 +53,9 @@ DetectorRecord::State toRecordState(estimator::ConflictReport::State s) {
   }
 }
 
-BenchmarkModeRun runEstimator(const sim::FeatureSequence& seq, const std::string& mode, double pixel_sigma) {
-  estimator::EstimatorOptions eo;
+BenchmarkModeRun runEstimator(const sim::FeatureSequence& seq, const std::string& mode,
+                              const estimator::EstimatorOptions& options, double pixel_sigma) {
+  estimator::EstimatorOptions eo = options;
   eo.observation_sigma_px = pixel_sigma;
   eo.conflict.mode = conflict::resolutionModeFromString(mode, "mode");
   estimator::SlidingWindowEstimator est(eo, seq.calibration);
@@ -197,7 +198,7 @@ BenchmarkSequenceResult BenchmarkSuite::runSequence(const BenchmarkSequence& seq
 
   std::vector<BenchmarkModeRun> runs;
   for (const auto& mode : options_.modes) {
-    BenchmarkModeRun run = runEstimator(seq, mode, options_.features.pixel_noise_sigma);
+    BenchmarkModeRun run = runEstimator(seq, mode, options_.estimator, options_.features.pixel_noise_sigma);
     if (on_run) {
       std::string line = sequence.name + " " + mode + ": " + std::to_string(run.estimate.size()) + "/" +
                          std::to_string(run.frames) + " frames tracked";

@@ -11,6 +11,7 @@
 #include "commands/image_level_benchmark.hpp"
 #include "mcvio/evaluation/benchmark_report_writer.hpp"
 #include "mcvio/evaluation/benchmark_suite.hpp"
+#include "mcvio/pipeline/vio_pipeline.hpp"
 
 namespace mcvio::cli {
 
@@ -81,7 +82,10 @@ void addBenchCommand(CLI::App& app, CommandContext&) {
       ->capture_default_str();
   cmd->add_option("--overlay-duration", opt->overlay_duration_s, "images level: how long the overlay is seen [s]")
       ->capture_default_str();
-  cmd->add_option("--config", opt->config, "images level: VioPipelineOptions YAML for `mcvio run` (default: the shipped config/vio_pipeline.yaml, built in)");
+  cmd->add_option("--config", opt->config,
+                  "images level: VioPipelineOptions YAML for `mcvio run` (default: the shipped config/vio_pipeline.yaml,\n"
+                  "built in); feature level: its `estimator:` section (default: the library defaults), with\n"
+                  "observation_sigma_px set to the simulator's pixel noise");
   cmd->add_option("--modes", opt->modes, "resolution modes, comma separated; must include reference (default: all four)")
       ->delimiter(',');
   cmd->add_option("--scenarios", opt->scenarios,
@@ -132,6 +136,7 @@ void addBenchCommand(CLI::App& app, CommandContext&) {
     if (given("--rpe-delta-s")) o.rpe_delta_s = opt->rpe_delta_s;
     o.jobs = opt->jobs;
     o.oracle_track_labels = opt->oracle;
+    if (opt->level == "features" && !opt->config.empty()) o.estimator = pipeline::VioPipelineOptions::fromYamlFile(opt->config).estimator;
     const ev::BenchmarkSuite suite(o);  // validates: std::invalid_argument -> exit 2 naming the option
 
     spdlog::set_level(opt->verbose ? spdlog::level::info : spdlog::level::err);

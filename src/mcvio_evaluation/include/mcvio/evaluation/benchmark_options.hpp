@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "mcvio/estimator/estimator_options.hpp"
 #include "mcvio/sim/feature_simulator.hpp"
 
 namespace mcvio::evaluation {
@@ -53,6 +54,9 @@ struct BenchmarkOptions {
   double rpe_delta_s = 1.0;  ///< RPE pair separation [s]
   int jobs = 1;              ///< sequences simulated and estimated in parallel
   sim::FeatureSimulatorOptions features;
+  /// Feature level: the estimator's options in every run (the mode is set per run, and
+  /// observation_sigma_px always equals the simulator's features.pixel_noise_sigma).
+  estimator::EstimatorOptions estimator;
   BenchmarkTargets targets;
 
   /// A small suite for tests and a first look: 25 s sequences, conflict 8..16 s, no sweep.
