@@ -67,6 +67,26 @@ TEST(BenchmarkOptions, BadValuesNameTheOption) {
   o.jobs = 0;
   EXPECT_NE(invalidMessage(o).find("jobs"), std::string::npos) << invalidMessage(o);
   EXPECT_THROW(BenchmarkSuite{o}, std::invalid_argument);
+  o = {};
+  o.estimator.conflict.horizon_frames = 0;
+  EXPECT_NE(invalidMessage(o).find("estimator: "), std::string::npos) << invalidMessage(o);
+  EXPECT_NE(invalidMessage(o).find("horizon_frames"), std::string::npos) << invalidMessage(o);
+}
+
+// `mcvio bench --config` at feature level: the estimator options reach every run.
+TEST(BenchmarkSuite, EstimatorOptionsReachTheRuns) {
+  BenchmarkOptions o = BenchmarkOptions::quick();
+  o.scenarios = {"none"};
+  o.modes = {"reference"};
+  o.sequence_duration_s = 8.0;
+  o.onset_s = 2.0;
+  o.conflict_duration_s = 2.0;
+  const auto tracked = [&o] { return BenchmarkSuite(o).run({}).sequences.at(0).runs.at(0).tracked_frames; };
+  const std::size_t with_defaults = tracked();
+  o.estimator.init_window_s = 4.0;  // the first pose waits for 4 s of IMU instead of 1 s
+  const std::size_t with_late_start = tracked();
+  EXPECT_GT(with_defaults, 8u * 20u - 2u * 20u);
+  EXPECT_LE(with_late_start, with_defaults - 2u * 20u);
 }
 
 TEST(BenchmarkSuite, PlanHasEveryScenarioSeedAndTheSweep) {
