@@ -114,13 +114,12 @@ struct ConflictOptions {
   /// speed gained without evidence is the inertial estimate drifting, not the frame moving.
   double hold_max_speed_gain = 1.25;
   /// Biases stay held this many frames after an IMU-dominated interval ends: vision pulls the
-  /// drifted inertial velocity back then, and a conflicting object may still be in view (the slow
-  /// object's last tracks turned the gyro bias to 0.02 rad/s and the yaw 3.7 degrees within half a
-  /// second). Feature level, auto, seeds 1-3, 0 -> 40 frames: slow object 0.121 / 0.053 / 0.191 ->
-  /// 0.080 / 0.044 / 0.086 m, vehicle 0.098 / 0.211 / 0.121 -> 0.084 / 0.237 / 0.116 m,
-  /// self-occlusion, elevator and pedestrian equal or better, clean unchanged. (On 2026-11-21, 20
-  /// frames had kept the feature-level self-occlusion in a false interval; they no longer do.)
-  int exit_bias_hold_frames = 40;
+  /// drifted inertial velocity back then, and a conflicting object may still be in view (the
+  /// feature-level slow object's last tracks turned the gyro bias to 0.02 rad/s and the yaw 3.7
+  /// degrees within half a second). Off: 40 frames help the feature level (auto, seeds 1-3: slow
+  /// object 0.121 / 0.053 / 0.191 -> 0.080 / 0.044 / 0.086 m, elevator, vehicle and self-occlusion
+  /// equal or better) but the image-level slow object goes from 0.046 to 0.084 m (20 frames too).
+  int exit_bias_hold_frames = 0;
   /// IMU-dominated: when the interval ends with vision's velocity at least
   /// `restart_min_velocity_jump_mps` from the inertial one, restart the window at the current pose
   /// with vision's velocity (measured over the last horizon), the held biases and loose roll and
