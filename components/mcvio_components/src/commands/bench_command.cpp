@@ -136,7 +136,8 @@ void addBenchCommand(CLI::App& app, CommandContext&) {
     if (given("--rpe-delta-s")) o.rpe_delta_s = opt->rpe_delta_s;
     o.jobs = opt->jobs;
     o.oracle_track_labels = opt->oracle;
-    if (opt->level == "features" && !opt->config.empty()) o.estimator = pipeline::VioPipelineOptions::fromYamlFile(opt->config).estimator;
+    if (opt->level == "features" && !opt->config.empty())
+      o.estimator = pipeline::VioPipelineOptions::fromYamlFile(opt->config).estimator;
     const ev::BenchmarkSuite suite(o);  // validates: std::invalid_argument -> exit 2 naming the option
 
     spdlog::set_level(opt->verbose ? spdlog::level::info : spdlog::level::err);
