@@ -8,6 +8,8 @@
 #include "mcvio/dataset/csv_reader.hpp"
 #include "mcvio/dataset/euroc_dataset.hpp"
 
+#include <opencv2/imgcodecs.hpp>
+
 namespace {
 
 std::string excerptDir() {
@@ -56,6 +58,18 @@ void BM_LoadImage(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_LoadImage)->Unit(benchmark::kMillisecond);
+
+// What loadImage cost before PngGrayDecoder: OpenCV's libpng path on the same files.
+void BM_LoadImageOpenCv(benchmark::State& state) {
+  const auto data = mcvio::dataset::EurocDataset::open(excerptDir());
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const cv::Mat image = cv::imread(data.stereoFrames()[i % data.stereoFrames().size()].path(0), cv::IMREAD_GRAYSCALE);
+    benchmark::DoNotOptimize(image.data);
+    ++i;
+  }
+}
+BENCHMARK(BM_LoadImageOpenCv)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -1,4 +1,5 @@
 #include "mcvio/dataset/euroc_dataset.hpp"
+#include "mcvio/dataset/png_gray_decoder.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -170,7 +171,9 @@ cv::Mat EurocDataset::loadImage(const StereoFrame& frame, int camera) const {
 cv::Mat EurocDataset::loadImage(const std::string& path, int camera) const {
   cv::Mat image;
   try {
-    image = cv::imread(path, cv::IMREAD_GRAYSCALE);
+    // EuRoC's own 8-bit greyscale PNGs take the fast path; anything else goes to OpenCV.
+    if (PngGrayDecoder::decodeFile(path, &image) == PngGrayDecoder::Status::kUnsupported)
+      image = cv::imread(path, cv::IMREAD_GRAYSCALE);
   } catch (const cv::Exception& e) {
     throw InputError(path + ": cannot decode image: " + e.what());
   }
