@@ -20,7 +20,8 @@ int main(int argc, char** argv) {
   if (argc > 3) opt = EstimatorOptions::fromYamlFile(argv[3]);
   const auto seq = testing::generateSequence(cfg);
   const auto res = testing::runEstimator(seq, opt);
-  for (std::size_t i = 0; i < res.outputs.size(); i += 20) {
+  const std::size_t step = std::getenv("STEP") ? static_cast<std::size_t>(std::atoi(std::getenv("STEP"))) : 20;
+  for (std::size_t i = 0; i < res.outputs.size(); i += step) {
     const auto& o = res.outputs[i];
     const auto& t = seq.truth[i];
     std::printf("   t: pre %.2f setup %.2f solve %.2f cov %.2f marg %.2f total %.2f\n", o.timings.preintegration_ms, o.timings.setup_ms, o.timings.solve_ms, o.timings.covariance_ms, o.timings.marginalization_ms, o.timings.total_ms);
