@@ -1,6 +1,5 @@
 #include "mcvio/dataset/png_gray_decoder.hpp"
 
-#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -17,8 +16,10 @@ namespace mcvio::dataset {
 namespace {
 
 constexpr std::uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-// Larger images go to OpenCV, which has its own limits; EuRoC's are 752x480.
+// Larger images go to OpenCV, which has its own limits; EuRoC's are 752x480. The pixel limit
+// keeps a forged header in a small file from reserving gigabytes here.
 constexpr std::uint32_t kMaxSide = 1u << 15;
+constexpr std::uint64_t kMaxPixels = std::uint64_t{1} << 26;
 
 std::uint32_t bigEndian32(const std::uint8_t* p) {
   return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) | std::uint32_t{p[3]};
@@ -122,7 +123,9 @@ PngGrayDecoder::Status PngGrayDecoder::decode(const std::uint8_t* data, std::siz
     const std::uint32_t length = bigEndian32(data + pos);
     const std::uint8_t* type = data + pos + 4;
     const std::uint8_t* body = data + pos + 8;
-    const std::string type_name(reinterpret_cast<const char*>(type), 4);
+    std::string type_name(reinterpret_cast<const char*>(type), 4);
+    for (char& ch : type_name)
+      if (ch < 0x20 || ch > 0x7e) ch = '?';  // damaged type bytes stay printable in the message
     if (length > 0x7fffffffu || length > size - pos - 12)
       fail(name, "chunk '" + type_name + "' at byte " + std::to_string(pos) + " runs past the end of the file");
     const bool critical = (type[0] & 0x20) == 0;
@@ -140,7 +143,7 @@ PngGrayDecoder::Status PngGrayDecoder::decode(const std::uint8_t* data, std::siz
       const int bit_depth = body[8], color_type = body[9], compression = body[10], filter = body[11],
                 interlace = body[12];
       if (bit_depth != 8 || color_type != 0 || compression != 0 || filter != 0 || interlace != 0 || w > kMaxSide ||
-          h > kMaxSide)
+          h > kMaxSide || std::uint64_t{w} * h > kMaxPixels)
         return Status::kUnsupported;
       width = static_cast<int>(w);
       height = static_cast<int>(h);

@@ -177,6 +177,15 @@ TEST(PngGrayDecoder, OtherPngsAndOtherFormatsAreLeftToOpenCv) {
   ASSERT_TRUE(cv::imencode(".bmp", gray, png));
   EXPECT_EQ(PngGrayDecoder::decode(png.data(), png.size(), "b.png", &out), Status::kUnsupported);
   EXPECT_EQ(PngGrayDecoder::decode(png.data(), 0, "empty.png", &out), Status::kUnsupported);
+  // A forged header of 30000 x 30000 pixels in a file of a few bytes reserves nothing here.
+  Bytes forged = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  Bytes ihdr;
+  put32(&ihdr, 30000);
+  put32(&ihdr, 30000);
+  ihdr.insert(ihdr.end(), {8, 0, 0, 0, 0});
+  putChunk(&forged, "IHDR", ihdr);
+  putChunk(&forged, "IDAT", Bytes{0x78, 0x9c, 0x03, 0x00, 0x00, 0x00, 0x00, 0x01});
+  EXPECT_EQ(PngGrayDecoder::decode(forged.data(), forged.size(), "forged.png", &out), Status::kUnsupported);
 }
 
 TEST(PngGrayDecoder, DamagedFilesNameTheFileAndTheFault) {
