@@ -1,4 +1,5 @@
 // Small command-line runner for development: prints figures of one synthetic run.
+#include <algorithm>
 #include <cstdio>
 #include <cmath>
 #include <cstdlib>
@@ -20,7 +21,8 @@ int main(int argc, char** argv) {
   if (argc > 3) opt = EstimatorOptions::fromYamlFile(argv[3]);
   const auto seq = testing::generateSequence(cfg);
   const auto res = testing::runEstimator(seq, opt);
-  const std::size_t step = std::getenv("STEP") ? static_cast<std::size_t>(std::atoi(std::getenv("STEP"))) : 20;
+  const int step_env = std::getenv("STEP") ? std::atoi(std::getenv("STEP")) : 20;
+  const std::size_t step = static_cast<std::size_t>(std::max(1, step_env));  // STEP=0 or junk: every frame
   for (std::size_t i = 0; i < res.outputs.size(); i += step) {
     const auto& o = res.outputs[i];
     const auto& t = seq.truth[i];
