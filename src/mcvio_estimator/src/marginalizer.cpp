@@ -343,6 +343,16 @@ void Marginalizer::reduce(const std::vector<int>& order, const std::vector<char>
 }
 
 std::shared_ptr<MarginalizationPrior> Marginalizer::marginalize(const std::set<const double*>& drop) const {
+  return marginalizeImpl(drop, nullptr, false).prior;
+}
+
+Marginalizer::SplitPrior Marginalizer::marginalizeSplit(const std::set<const double*>& drop,
+                                                        const MarginalizationPrior* weak_in) const {
+  return marginalizeImpl(drop, weak_in, true);
+}
+
+Marginalizer::SplitPrior Marginalizer::marginalizeImpl(const std::set<const double*>& drop,
+                                                       const MarginalizationPrior* weak_in, bool want_weak) const {
   // Dense order: dropped non-landmark blocks first, then the kept ones (in first-use order).
   const std::vector<char> dropped_flag = blockFlags(drop);
   std::vector<int> dropped, kept;
@@ -357,7 +367,7 @@ std::shared_ptr<MarginalizationPrior> Marginalizer::marginalize(const std::set<c
       kept.push_back(id);
     }
   }
-  if (kept.empty()) return nullptr;
+  if (kept.empty()) return {};
   std::vector<int> order = dropped;
   order.insert(order.end(), kept.begin(), kept.end());
   Eigen::MatrixXd H;
@@ -367,22 +377,61 @@ std::shared_ptr<MarginalizationPrior> Marginalizer::marginalize(const std::set<c
   for (const int id : dropped) m += blocks_[static_cast<std::size_t>(id)].tangent_size;
   const int n = static_cast<int>(H.rows()) - m;
 
+  // The weak part joins the information only: J^T J at its blocks' offsets (its tangent-space
+  // Jacobian is J itself, see MarginalizationFactor).
+  Eigen::MatrixXd Hw;
+  if (want_weak && weak_in != nullptr && weak_in->J.rows() > 0) {
+    std::vector<int> offset(blocks_.size(), -1);
+    int dim = 0;
+    for (const int id : order) {
+      offset[static_cast<std::size_t>(id)] = dim;
+      dim += blocks_[static_cast<std::size_t>(id)].tangent_size;
+    }
+    Hw = Eigen::MatrixXd::Zero(H.rows(), H.cols());
+    const Eigen::MatrixXd info = weak_in->information();
+    std::vector<std::pair<int, int>> cols;  // (offset in H, offset in weak_in) per block
+    int col = 0;
+    for (const auto& b : weak_in->blocks) {
+      const int id = blockId(b.data);
+      if (id < 0 || offset[static_cast<std::size_t>(id)] < 0)
+        throw std::logic_error("Marginalizer: the weak prior uses a block outside the marginalisation");
+      cols.emplace_back(offset[static_cast<std::size_t>(id)], col);
+      col += b.tangent_size;
+    }
+    for (std::size_t a = 0; a < cols.size(); ++a)
+      for (std::size_t b = 0; b < cols.size(); ++b)
+        Hw.block(cols[a].first, cols[b].first, weak_in->blocks[a].tangent_size, weak_in->blocks[b].tangent_size) +=
+            info.block(cols[a].second, cols[b].second, weak_in->blocks[a].tangent_size, weak_in->blocks[b].tangent_size);
+  }
+
   Eigen::MatrixXd Hs = H.bottomRightCorner(n, n);
   Eigen::VectorXd gs = g.tail(n);
+  Eigen::MatrixXd Hs_all;  // with the weak part: the whole information on the kept blocks
+  if (want_weak) Hs_all = Hw.size() > 0 ? Eigen::MatrixXd(Hs + Hw.bottomRightCorner(n, n)) : Hs;
   if (m > 0) {
     const Eigen::MatrixXd Hmm_inv = pseudoInverse(H.topLeftCorner(m, m));
     const Eigen::MatrixXd Hnm = H.bottomLeftCorner(n, m);
     Hs -= Hnm * Hmm_inv * Hnm.transpose();
     gs -= Hnm * Hmm_inv * g.head(m);
+    if (want_weak) {
+      if (Hw.size() > 0) {
+        const Eigen::MatrixXd Hmm_all_inv = pseudoInverse(H.topLeftCorner(m, m) + Hw.topLeftCorner(m, m));
+        const Eigen::MatrixXd Hnm_all = Hnm + Hw.bottomLeftCorner(n, m);
+        Hs_all -= Hnm_all * Hmm_all_inv * Hnm_all.transpose();
+      } else {
+        Hs_all -= Hnm * Hmm_inv * Hnm.transpose();
+      }
+    }
   }
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (Hs + Hs.transpose()));
   // Directions known to less than 1e-8 of the strongest (a bias, near 1e11) leave the prior: that
   // is anything known worse than about 3 cm, the absolute position and yaw included once the drift
-  // passes that, so the covariance loses its gauge (feature level: position NEES 0.6 over ten 30 s
-  // runs). 1e-11 keeps it (NEES 2.0, ATE -10 %) but costs MC-VIO at image level (overlay 0.070 ->
-  // 0.104 m, slow object 0.046 -> 0.068 m); README "Consistency and the prior's floor" has that
-  // and two other tries.
-  const double eps = 1e-8 * std::max(1.0, es.eigenvalues().maxCoeff());
+  // passes that. Keeping them in the optimisation (1e-11: the covariance keeps its gauge, ATE -10 %
+  // at feature level) costs MC-VIO at image level (overlay 0.070 -> 0.104 m, slow object 0.046 ->
+  // 0.068 m), so they go to the weak part, which only the covariance sees. README "Consistency and
+  // the prior's floor" has the measurements.
+  const double max_eigenvalue = std::max(1.0, es.eigenvalues().maxCoeff());
+  const double eps = 1e-8 * max_eigenvalue;
   std::vector<int> rows;
   for (int i = 0; i < n; ++i)
     if (es.eigenvalues()[i] > eps) rows.push_back(i);
@@ -406,7 +455,31 @@ std::shared_ptr<MarginalizationPrior> Marginalizer::marginalize(const std::set<c
     blk.x_lin.assign(b.data, b.data + b.size);
     prior->blocks.push_back(std::move(blk));
   }
-  return prior;
+  SplitPrior out;
+  out.prior = prior;
+  if (!want_weak) return out;
+  // The weak part is what the whole information has beyond the prior: positive semi-definite,
+  // because the Schur complement only grows with information and the prior is a part of Hs.
+  // (A pivoted LDL^T instead of this eigen-decomposition saves 0.1 ms but loses the weak
+  // directions in the cancellation noise of the strong ones: the unit test's yaw variance came out
+  // 7x too large.)
+  const Eigen::MatrixXd rest = Hs_all - prior->J.transpose() * prior->J;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ew(0.5 * (rest + rest.transpose()));
+  const double eps_weak = 1e-12 * max_eigenvalue;
+  std::vector<int> weak_rows;
+  for (int i = 0; i < n; ++i)
+    if (ew.eigenvalues()[i] > eps_weak) weak_rows.push_back(i);
+  if (weak_rows.empty()) return out;
+  auto weak = std::make_shared<MarginalizationPrior>();
+  weak->blocks = prior->blocks;
+  weak->J.resize(static_cast<int>(weak_rows.size()), n);
+  weak->r = Eigen::VectorXd::Zero(static_cast<int>(weak_rows.size()));
+  for (std::size_t k = 0; k < weak_rows.size(); ++k) {
+    const int i = weak_rows[k];
+    weak->J.row(static_cast<int>(k)) = std::sqrt(ew.eigenvalues()[i]) * ew.eigenvectors().col(i).transpose();
+  }
+  out.weak = std::move(weak);
+  return out;
 }
 
 bool Marginalizer::marginalCovariance(const double* block, Eigen::MatrixXd* covariance) const {

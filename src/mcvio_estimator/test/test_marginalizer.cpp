@@ -4,6 +4,7 @@
 #include <set>
 #include <stdexcept>
 
+#include <Eigen/Eigenvalues>
 #include <ceres/ceres.h>
 #include <gtest/gtest.h>
 
@@ -215,6 +216,91 @@ TEST(Marginalizer, MarginalCovarianceMatchesFullInverse) {
   hessian(&full, order, &H, &g);
   const Eigen::MatrixXd ref = H.inverse().topLeftCorner(6, 6);
   EXPECT_LT((cov - ref).norm(), 1e-6 * ref.norm());
+}
+
+// Two marginalisations in a row (frame 0, then frame 1, each with the landmarks anchored in it)
+// with a gauge prior that knows yaw only weakly: the optimisation's prior is exactly what
+// marginalize() gives, and prior + weak part carry the whole information of the full problem on
+// frame 2, although the weak yaw is below the optimisation prior's floor.
+TEST(Marginalizer, SplitPriorKeepsTheWeakDirectionsForTheCovariance) {
+  SmallProblem sp;
+  // Yaw sigma 20 rad, and a velocity that does not tell the heading: nothing else knows yaw.
+  sp.gauge->J(5, 5) = sp.gauge->J(6, 6) = sp.gauge->J(7, 7) = 0.05;
+  PoseManifold manifold;
+  auto register_blocks = [&](Marginalizer* m) {
+    for (auto& p : sp.poses) m->addParameterBlock(p.data(), BlockKind::kPose, 7);
+    for (auto& s : sp.sbs) m->addParameterBlock(s.data(), BlockKind::kEuclidean, 9);
+    for (auto& r : sp.lms) m->addParameterBlock(r.data(), BlockKind::kLandmark, 3);
+  };
+  auto drop_of = [&](int frame) {
+    std::set<const double*> drop{sp.poses[static_cast<std::size_t>(frame)].data(),
+                                 sp.sbs[static_cast<std::size_t>(frame)].data()};
+    for (std::size_t l = 0; l < sp.lms.size(); ++l)
+      if (sp.anchor[l] == frame) drop.insert(sp.lms[l].data());
+    return drop;
+  };
+  std::vector<char> used(sp.costs.size(), 0);
+  auto add_touching = [&](Marginalizer* m, const std::set<const double*>& drop) {
+    for (std::size_t i = 0; i < sp.costs.size(); ++i) {
+      bool touches = false;
+      for (double* p : sp.params[i]) touches |= drop.count(p) != 0;
+      if (touches && used[i] == 0) {
+        m->addResidualBlock(sp.costs[i].get(), nullptr, sp.params[i]);
+        used[i] = 1;
+      }
+    }
+  };
+
+  const auto drop0 = drop_of(0);
+  Marginalizer m0;
+  register_blocks(&m0);
+  add_touching(&m0, drop0);
+  const auto split0 = m0.marginalizeSplit(drop0, nullptr);
+  const auto plain0 = m0.marginalize(drop0);
+  ASSERT_TRUE(split0.prior && plain0);
+  EXPECT_EQ(split0.prior->J, plain0->J);
+  EXPECT_EQ(split0.prior->r, plain0->r);
+  ASSERT_TRUE(split0.weak) << "the weak yaw must reach the weak part";
+  EXPECT_EQ(split0.weak->r.size(), split0.weak->J.rows());
+  EXPECT_TRUE(split0.weak->r.isZero());
+
+  const auto drop1 = drop_of(1);
+  Marginalizer m1;
+  register_blocks(&m1);
+  MarginalizationFactor prior0_factor(split0.prior);
+  m1.addResidualBlock(&prior0_factor, nullptr, prior0_factor.parameterBlocks());
+  add_touching(&m1, drop1);
+  const auto split1 = m1.marginalizeSplit(drop1, split0.weak.get());
+  ASSERT_TRUE(split1.prior && split1.weak);
+  ASSERT_EQ(split1.prior->blocks.size(), 2u);  // frame 2's pose and speed-bias
+  EXPECT_EQ(split1.weak->blocks.size(), split1.prior->blocks.size());
+  for (const auto& b : split1.prior->blocks)
+    EXPECT_TRUE(b.data == sp.poses[2].data() || b.data == sp.sbs[2].data());
+
+  // Full problem: every residual, frame 2 kept, everything else marginalised.
+  ceres::Problem::Options popts;
+  popts.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  popts.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem full(popts);
+  sp.addBlocks(&full, &manifold);
+  for (std::size_t i = 0; i < sp.costs.size(); ++i) full.AddResidualBlock(sp.costs[i].get(), nullptr, sp.params[i]);
+  std::vector<double*> order{split1.prior->blocks[0].data, split1.prior->blocks[1].data};
+  for (double* p : {sp.poses[0].data(), sp.sbs[0].data(), sp.poses[1].data(), sp.sbs[1].data()}) order.push_back(p);
+  for (auto& r : sp.lms) order.push_back(r.data());
+  Eigen::MatrixXd H;
+  Eigen::VectorXd g;
+  hessian(&full, order, &H, &g);
+  const int n = 15;
+  const Eigen::MatrixXd H_marg = H.inverse().topLeftCorner(n, n).inverse();
+  const Eigen::MatrixXd H_split = split1.prior->information() + split1.weak->information();
+  EXPECT_LT((H_split - H_marg).norm(), 1e-6 * H_marg.norm()) << "prior + weak part lose information";
+  // The weak part matters: the optimisation's prior alone misses the yaw information, so its
+  // yaw variance is far larger than the full problem's (or infinite).
+  const Eigen::Matrix<double, n, n> cov_full = H_marg.inverse();
+  const Eigen::Matrix<double, n, n> cov_split = H_split.inverse();
+  EXPECT_NEAR(cov_split(5, 5), cov_full(5, 5), 1e-3 * cov_full(5, 5));
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(split1.prior->information());
+  EXPECT_LT(es.eigenvalues().minCoeff(), 1e-6 * es.eigenvalues().maxCoeff());
 }
 
 // A residual over an unregistered block is rejected and leaves nothing behind: the covariance is

@@ -56,8 +56,9 @@ TEST(SlidingWindowEstimator, PositionNeesIsConsistent) {
     nees += res.mean_position_nees / runs;
   }
   std::printf("mean position NEES over %d runs: %.3f (3 = consistent)\n", runs, nees);
-  EXPECT_GT(nees, 0.5);
-  EXPECT_LT(nees, 9.0);
+  // 1.93 when the covariance dropped the weak directions with the solver's prior; 2.55 with them.
+  EXPECT_GT(nees, 1.0);
+  EXPECT_LT(nees, 6.0);
 }
 
 TEST(SlidingWindowEstimator, MovingStart) {

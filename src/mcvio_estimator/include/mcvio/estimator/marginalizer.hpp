@@ -35,6 +35,19 @@ class Marginalizer {
   /// is left to keep. Throws std::logic_error if a residual couldn't be evaluated.
   std::shared_ptr<MarginalizationPrior> marginalize(const std::set<const double*>& drop) const;
 
+  /// The two parts of a marginalisation: `prior` is what marginalize() returns (directions known
+  /// to at least 1e-8 of the strongest); `weak` holds the rest of the information down to 1e-12
+  /// (J only, r = 0), so that prior + weak is the whole Schur complement.
+  struct SplitPrior {
+    std::shared_ptr<MarginalizationPrior> prior;
+    std::shared_ptr<MarginalizationPrior> weak;  ///< nullptr when there is nothing weak
+  };
+  /// As marginalize(), and also carries the weak directions of an earlier marginalisation:
+  /// `weak_in` (may be null; its blocks must be registered) joins the information but not the
+  /// optimisation's prior, which stays exactly what marginalize() gives. The estimator optimises
+  /// with `prior` only and reports covariances with both.
+  SplitPrior marginalizeSplit(const std::set<const double*>& drop, const MarginalizationPrior* weak_in) const;
+
   /// Marginal covariance (tangent space) of `block` given all added residuals, with every other
   /// block marginalised. False if the information matrix is not positive definite.
   bool marginalCovariance(const double* block, Eigen::MatrixXd* covariance) const;
@@ -61,6 +74,8 @@ class Marginalizer {
     int count;
   };
   int blockId(const double* data) const;
+  SplitPrior marginalizeImpl(const std::set<const double*>& drop, const MarginalizationPrior* weak_in,
+                             bool want_weak) const;
   /// Per-block flags of a pointer set (pointers that are not registered blocks are ignored).
   std::vector<char> blockFlags(const std::set<const double*>& blocks) const;
   /// reducedSystem() over block ids: `order` lists the dense blocks, `dropped` flags the blocks of
