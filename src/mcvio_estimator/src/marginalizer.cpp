@@ -457,7 +457,8 @@ Marginalizer::SplitPrior Marginalizer::marginalizeImpl(const std::set<const doub
   }
   SplitPrior out;
   out.prior = prior;
-  if (!want_weak) return out;
+  // Nothing dropped and nothing weak carried in: the prior is the whole information.
+  if (!want_weak || (rows.size() == static_cast<std::size_t>(n) && Hw.size() == 0)) return out;
   // The weak part is what the whole information has beyond the prior: positive semi-definite,
   // because the Schur complement only grows with information and the prior is a part of Hs.
   // (A pivoted LDL^T instead of this eigen-decomposition saves 0.1 ms but loses the weak
