@@ -95,6 +95,25 @@ struct SmallProblem {
     for (auto& s : sbs) problem->AddParameterBlock(s.data(), 9);
     for (auto& r : lms) problem->AddParameterBlock(r.data(), 3);
   }
+  void registerBlocks(Marginalizer* m) {
+    for (auto& p : poses) m->addParameterBlock(p.data(), BlockKind::kPose, 7);
+    for (auto& s : sbs) m->addParameterBlock(s.data(), BlockKind::kEuclidean, 9);
+    for (auto& r : lms) m->addParameterBlock(r.data(), BlockKind::kLandmark, 3);
+  }
+  /// Options of a ceres::Problem over this problem's costs and a caller's manifold.
+  static ceres::Problem::Options borrowing() {
+    ceres::Problem::Options popts;
+    popts.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    popts.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    return popts;
+  }
+  /// Every block and every residual.
+  std::unique_ptr<ceres::Problem> fullProblem(ceres::Manifold* manifold) {
+    auto problem = std::make_unique<ceres::Problem>(borrowing());
+    addBlocks(problem.get(), manifold);
+    for (std::size_t i = 0; i < costs.size(); ++i) problem->AddResidualBlock(costs[i].get(), nullptr, params[i]);
+    return problem;
+  }
 };
 
 void hessian(ceres::Problem* problem, const std::vector<double*>& order, Eigen::MatrixXd* H, Eigen::VectorXd* g) {
@@ -122,9 +141,7 @@ TEST(Marginalizer, PriorEqualsMarginalInformationOfFullProblem) {
     if (sp.anchor[l] == 0) drop.insert(sp.lms[l].data());
 
   Marginalizer marg;
-  for (auto& p : sp.poses) marg.addParameterBlock(p.data(), BlockKind::kPose, 7);
-  for (auto& s : sp.sbs) marg.addParameterBlock(s.data(), BlockKind::kEuclidean, 9);
-  for (auto& r : sp.lms) marg.addParameterBlock(r.data(), BlockKind::kLandmark, 3);
+  sp.registerBlocks(&marg);
   std::vector<std::size_t> remaining;
   for (std::size_t i = 0; i < sp.costs.size(); ++i) {
     bool touches = false;
@@ -138,12 +155,7 @@ TEST(Marginalizer, PriorEqualsMarginalInformationOfFullProblem) {
   ASSERT_TRUE(prior);
   EXPECT_FALSE(prior->involves(sp.poses[0].data()));
 
-  ceres::Problem::Options popts;
-  popts.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  popts.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem full(popts);
-  sp.addBlocks(&full, &manifold);
-  for (std::size_t i = 0; i < sp.costs.size(); ++i) full.AddResidualBlock(sp.costs[i].get(), nullptr, sp.params[i]);
+  const auto full = sp.fullProblem(&manifold);
 
   std::vector<double*> kept, dropped;
   for (std::size_t i = 1; i < 3; ++i) {
@@ -157,7 +169,7 @@ TEST(Marginalizer, PriorEqualsMarginalInformationOfFullProblem) {
   order.insert(order.end(), dropped.begin(), dropped.end());
   Eigen::MatrixXd H;
   Eigen::VectorXd g;
-  hessian(&full, order, &H, &g);
+  hessian(full.get(), order, &H, &g);
   const int n = 2 * 6 + 2 * 9 + 3 * static_cast<int>(sp.lms.size()) / 2;
   const int m = static_cast<int>(H.rows()) - n;
   const Eigen::MatrixXd Hmm_inv = H.bottomRightCorner(m, m).inverse();
@@ -168,7 +180,7 @@ TEST(Marginalizer, PriorEqualsMarginalInformationOfFullProblem) {
   EXPECT_LT((H_marg - H_cov).norm(), 1e-6 * H_marg.norm());
 
   auto* prior_factor = new MarginalizationFactor(prior);
-  ceres::Problem reduced(popts);
+  ceres::Problem reduced(SmallProblem::borrowing());
   for (double* p : kept) {
     if (p == sp.poses[1].data() || p == sp.poses[2].data())
       reduced.AddParameterBlock(p, 7, &manifold);
@@ -195,25 +207,18 @@ TEST(Marginalizer, MarginalCovarianceMatchesFullInverse) {
   SmallProblem sp;
   PoseManifold manifold;
   Marginalizer marg;
-  for (auto& p : sp.poses) marg.addParameterBlock(p.data(), BlockKind::kPose, 7);
-  for (auto& s : sp.sbs) marg.addParameterBlock(s.data(), BlockKind::kEuclidean, 9);
-  for (auto& r : sp.lms) marg.addParameterBlock(r.data(), BlockKind::kLandmark, 3);
+  sp.registerBlocks(&marg);
   for (std::size_t i = 0; i < sp.costs.size(); ++i) marg.addResidualBlock(sp.costs[i].get(), nullptr, sp.params[i]);
   Eigen::MatrixXd cov;
   ASSERT_TRUE(marg.marginalCovariance(sp.poses[2].data(), &cov));
 
-  ceres::Problem::Options popts;
-  popts.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  popts.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem full(popts);
-  sp.addBlocks(&full, &manifold);
-  for (std::size_t i = 0; i < sp.costs.size(); ++i) full.AddResidualBlock(sp.costs[i].get(), nullptr, sp.params[i]);
+  const auto full = sp.fullProblem(&manifold);
   std::vector<double*> order{sp.poses[2].data(), sp.poses[0].data(), sp.poses[1].data()};
   for (auto& s : sp.sbs) order.push_back(s.data());
   for (auto& r : sp.lms) order.push_back(r.data());
   Eigen::MatrixXd H;
   Eigen::VectorXd g;
-  hessian(&full, order, &H, &g);
+  hessian(full.get(), order, &H, &g);
   const Eigen::MatrixXd ref = H.inverse().topLeftCorner(6, 6);
   EXPECT_LT((cov - ref).norm(), 1e-6 * ref.norm());
 }
@@ -227,11 +232,6 @@ TEST(Marginalizer, SplitPriorKeepsTheWeakDirectionsForTheCovariance) {
   // Yaw sigma 20 rad, and a velocity that does not tell the heading: nothing else knows yaw.
   sp.gauge->J(5, 5) = sp.gauge->J(6, 6) = sp.gauge->J(7, 7) = 0.05;
   PoseManifold manifold;
-  auto register_blocks = [&](Marginalizer* m) {
-    for (auto& p : sp.poses) m->addParameterBlock(p.data(), BlockKind::kPose, 7);
-    for (auto& s : sp.sbs) m->addParameterBlock(s.data(), BlockKind::kEuclidean, 9);
-    for (auto& r : sp.lms) m->addParameterBlock(r.data(), BlockKind::kLandmark, 3);
-  };
   auto drop_of = [&](int frame) {
     std::set<const double*> drop{sp.poses[static_cast<std::size_t>(frame)].data(),
                                  sp.sbs[static_cast<std::size_t>(frame)].data()};
@@ -253,7 +253,7 @@ TEST(Marginalizer, SplitPriorKeepsTheWeakDirectionsForTheCovariance) {
 
   const auto drop0 = drop_of(0);
   Marginalizer m0;
-  register_blocks(&m0);
+  sp.registerBlocks(&m0);
   add_touching(&m0, drop0);
   const auto split0 = m0.marginalizeSplit(drop0, nullptr);
   const auto plain0 = m0.marginalize(drop0);
@@ -266,7 +266,7 @@ TEST(Marginalizer, SplitPriorKeepsTheWeakDirectionsForTheCovariance) {
 
   const auto drop1 = drop_of(1);
   Marginalizer m1;
-  register_blocks(&m1);
+  sp.registerBlocks(&m1);
   MarginalizationFactor prior0_factor(split0.prior);
   m1.addResidualBlock(&prior0_factor, nullptr, prior0_factor.parameterBlocks());
   add_touching(&m1, drop1);
@@ -278,18 +278,13 @@ TEST(Marginalizer, SplitPriorKeepsTheWeakDirectionsForTheCovariance) {
     EXPECT_TRUE(b.data == sp.poses[2].data() || b.data == sp.sbs[2].data());
 
   // Full problem: every residual, frame 2 kept, everything else marginalised.
-  ceres::Problem::Options popts;
-  popts.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  popts.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem full(popts);
-  sp.addBlocks(&full, &manifold);
-  for (std::size_t i = 0; i < sp.costs.size(); ++i) full.AddResidualBlock(sp.costs[i].get(), nullptr, sp.params[i]);
+  const auto full = sp.fullProblem(&manifold);
   std::vector<double*> order{split1.prior->blocks[0].data, split1.prior->blocks[1].data};
   for (double* p : {sp.poses[0].data(), sp.sbs[0].data(), sp.poses[1].data(), sp.sbs[1].data()}) order.push_back(p);
   for (auto& r : sp.lms) order.push_back(r.data());
   Eigen::MatrixXd H;
   Eigen::VectorXd g;
-  hessian(&full, order, &H, &g);
+  hessian(full.get(), order, &H, &g);
   const int n = 15;
   const Eigen::MatrixXd H_marg = H.inverse().topLeftCorner(n, n).inverse();
   const Eigen::MatrixXd H_split = split1.prior->information() + split1.weak->information();
@@ -309,11 +304,7 @@ TEST(Marginalizer, RejectedResidualLeavesNoTrace) {
   SmallProblem sp;
   std::array<double, 3> unregistered{0.1, 0.2, 0.25};
   Marginalizer with_rejected, clean;
-  for (Marginalizer* m : {&with_rejected, &clean}) {
-    for (auto& p : sp.poses) m->addParameterBlock(p.data(), BlockKind::kPose, 7);
-    for (auto& s : sp.sbs) m->addParameterBlock(s.data(), BlockKind::kEuclidean, 9);
-    for (auto& r : sp.lms) m->addParameterBlock(r.data(), BlockKind::kLandmark, 3);
-  }
+  for (Marginalizer* m : {&with_rejected, &clean}) sp.registerBlocks(m);
   for (std::size_t i = 0; i < sp.costs.size(); ++i) {
     if (i == sp.costs.size() / 2) {
       // The first two blocks are registered: a partial residual must not survive the throw.
