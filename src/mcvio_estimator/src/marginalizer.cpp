@@ -463,15 +463,22 @@ Marginalizer::SplitPrior Marginalizer::marginalizeImpl(const std::set<const doub
   // because the Schur complement only grows with information and the prior is a part of Hs.
   // A pivoted LDL^T factors it several times cheaper than a second eigen-decomposition.
   const Eigen::MatrixXd rest = Hs_all - prior->J.transpose() * prior->J;
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(0.5 * (rest + rest.transpose()));
-  const double eps_weak = 1e-12 * max_eigenvalue;
+  // Jacobi-scaled, so the floor is relative to each variable's own information and not to a bias's.
+  const Eigen::VectorXd inv_scale =
+      Hs_all.diagonal().unaryExpr([](double h) { return h > 0 ? 1.0 / std::sqrt(h) : 1.0; });
+  const Eigen::MatrixXd rest_scaled = inv_scale.asDiagonal() * (0.5 * (rest + rest.transpose())) * inv_scale.asDiagonal();
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(rest_scaled);
+  // Scaled rounding is ~1e-14; the common-mode (gauge) directions of a long IMU-only stretch sit
+  // near 1e-12..1e-10 of their variables' own information.
+  const double eps_weak = 1e-12;
   const Eigen::VectorXd d = ldlt.vectorD();
   std::vector<int> weak_rows;
   for (int i = 0; i < n; ++i)
     if (d[i] > eps_weak) weak_rows.push_back(i);
   if (weak_rows.empty()) return out;
-  // rest = P^T L D L^T P: the rows of sqrt(D) L^T P are a square root.
-  const Eigen::MatrixXd LtP = Eigen::MatrixXd(ldlt.matrixU()) * ldlt.transpositionsP().transpose();
+  // rest_scaled = P^T L D L^T P: the rows of sqrt(D) L^T P, unscaled, are a square root of rest.
+  const Eigen::MatrixXd LtP = Eigen::MatrixXd(ldlt.matrixU()) * ldlt.transpositionsP().transpose() *
+                              inv_scale.cwiseInverse().asDiagonal();
   auto weak = std::make_shared<MarginalizationPrior>();
   weak->blocks = prior->blocks;
   weak->J.resize(static_cast<int>(weak_rows.size()), n);

@@ -36,8 +36,9 @@ class Marginalizer {
   std::shared_ptr<MarginalizationPrior> marginalize(const std::set<const double*>& drop) const;
 
   /// The two parts of a marginalisation: `prior` is what marginalize() returns (directions known
-  /// to at least 1e-8 of the strongest); `weak` holds the rest of the information down to 1e-12
-  /// (J only, r = 0), so that prior + weak is the whole Schur complement.
+  /// to at least 1e-8 of the strongest); `weak` holds the rest of the information (J only, r = 0;
+  /// floor 1e-12 of each variable's own information), so that prior + weak is the whole Schur
+  /// complement.
   struct SplitPrior {
     std::shared_ptr<MarginalizationPrior> prior;
     std::shared_ptr<MarginalizationPrior> weak;  ///< nullptr when there is nothing weak
