@@ -406,23 +406,24 @@ Marginalizer::SplitPrior Marginalizer::marginalizeImpl(const std::set<const doub
 
   Eigen::MatrixXd Hs = H.bottomRightCorner(n, n);
   Eigen::VectorXd gs = g.tail(n);
-  Eigen::MatrixXd Hs_all;  // with the weak part: the whole information on the kept blocks
-  if (want_weak) Hs_all = Hw.size() > 0 ? Eigen::MatrixXd(Hs + Hw.bottomRightCorner(n, n)) : Hs;
+  // With a weak part coming in, the whole information on the kept blocks needs its own Schur
+  // complement; without, it is Hs itself.
+  Eigen::MatrixXd Hs_all;
+  if (Hw.size() > 0) {
+    Hs_all = Hs + Hw.bottomRightCorner(n, n);
+    if (m > 0) {
+      const Eigen::MatrixXd Hmm_all_inv = pseudoInverse(H.topLeftCorner(m, m) + Hw.topLeftCorner(m, m));
+      const Eigen::MatrixXd Hnm_all = H.bottomLeftCorner(n, m) + Hw.bottomLeftCorner(n, m);
+      Hs_all -= Hnm_all * Hmm_all_inv * Hnm_all.transpose();
+    }
+  }
   if (m > 0) {
     const Eigen::MatrixXd Hmm_inv = pseudoInverse(H.topLeftCorner(m, m));
     const Eigen::MatrixXd Hnm = H.bottomLeftCorner(n, m);
     Hs -= Hnm * Hmm_inv * Hnm.transpose();
     gs -= Hnm * Hmm_inv * g.head(m);
-    if (want_weak) {
-      if (Hw.size() > 0) {
-        const Eigen::MatrixXd Hmm_all_inv = pseudoInverse(H.topLeftCorner(m, m) + Hw.topLeftCorner(m, m));
-        const Eigen::MatrixXd Hnm_all = Hnm + Hw.bottomLeftCorner(n, m);
-        Hs_all -= Hnm_all * Hmm_all_inv * Hnm_all.transpose();
-      } else {
-        Hs_all -= Hnm * Hmm_inv * Hnm.transpose();
-      }
-    }
   }
+  if (want_weak && Hw.size() == 0) Hs_all = Hs;
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (Hs + Hs.transpose()));
   // Directions known to less than 1e-8 of the strongest (a bias, near 1e11) leave the prior: that
   // is anything known worse than about 3 cm, the absolute position and yaw included once the drift
