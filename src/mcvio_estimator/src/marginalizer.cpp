@@ -23,6 +23,17 @@ Eigen::MatrixXd pseudoInverse(const Eigen::MatrixXd& A) {
   return es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose();
 }
 
+// The same, Jacobi-scaled first, so the threshold is relative to each variable's own information:
+// a dropped frame's velocity must not count as unconstrained next to its biases (1e11), or its
+// coupling is never subtracted and the Schur complement claims information nobody has.
+Eigen::MatrixXd scaledPseudoInverse(const Eigen::MatrixXd& A) {
+  const Eigen::VectorXd s = A.diagonal().unaryExpr([](double h) { return h > 0 ? 1.0 / std::sqrt(h) : 0.0; });
+  return s.asDiagonal() * pseudoInverse(s.asDiagonal() * A * s.asDiagonal()) * s.asDiagonal();
+}
+
+// Floor of the whole information's scaled LDL^T pivots (see marginalizeImpl).
+constexpr double kWholeInformationFloor = 1e-13;
+
 using CouplingBlock = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 15>;
 using PoseCoupling = Eigen::Matrix<double, 3, 6>;
 // One eliminated landmark's normal equations. Fixed-size storage: the common 3-dof landmark seen
@@ -310,7 +321,13 @@ void Marginalizer::reduce(const std::vector<int>& order, const std::vector<char>
       // 3-dof landmark coupled to poses only: fixed-size arithmetic.
       Eigen::Matrix3d h_inv;
       Eigen::LLT<Eigen::Matrix3d> llt(t.h);
-      if (llt.info() == Eigen::Success && t.h.diagonal().minCoeff() > 1e-12)
+      // A landmark left with one observation has a rank-2 h; its Cholesky "succeeds" on a last
+      // pivot of rounding noise, and the inverse of that noise made the window's information
+      // indefinite (covariance reported invalid). Such landmarks take the pseudo-inverse, which
+      // is exact for them: their coupling lies in the range of h.
+      const double min_pivot = llt.info() == Eigen::Success ? llt.matrixLLT().diagonal().minCoeff() : 0.0;
+      if (llt.info() == Eigen::Success && t.h.diagonal().minCoeff() > 1e-12 &&
+          min_pivot * min_pivot > 1e-10 * t.h.diagonal().maxCoeff())
         h_inv = llt.solve(Eigen::Matrix3d::Identity());
       else
         h_inv = pseudoInverse(Eigen::MatrixXd(t.h));
@@ -343,16 +360,18 @@ void Marginalizer::reduce(const std::vector<int>& order, const std::vector<char>
 }
 
 std::shared_ptr<MarginalizationPrior> Marginalizer::marginalize(const std::set<const double*>& drop) const {
-  return marginalizeImpl(drop, nullptr, false).prior;
+  return marginalizeImpl(drop, nullptr, nullptr, false).prior;
 }
 
 Marginalizer::SplitPrior Marginalizer::marginalizeSplit(const std::set<const double*>& drop,
-                                                        const MarginalizationPrior* weak_in) const {
-  return marginalizeImpl(drop, weak_in, true);
+                                                        const MarginalizationPrior* whole_in,
+                                                        const ceres::CostFunction* prior_in) const {
+  return marginalizeImpl(drop, whole_in, prior_in, true);
 }
 
 Marginalizer::SplitPrior Marginalizer::marginalizeImpl(const std::set<const double*>& drop,
-                                                       const MarginalizationPrior* weak_in, bool want_weak) const {
+                                                       const MarginalizationPrior* whole_in,
+                                                       const ceres::CostFunction* prior_in, bool want_whole) const {
   // Dense order: dropped non-landmark blocks first, then the kept ones (in first-use order).
   const std::vector<char> dropped_flag = blockFlags(drop);
   std::vector<int> dropped, kept;
@@ -376,61 +395,30 @@ Marginalizer::SplitPrior Marginalizer::marginalizeImpl(const std::set<const doub
   int m = 0;
   for (const int id : dropped) m += blocks_[static_cast<std::size_t>(id)].tangent_size;
   const int n = static_cast<int>(H.rows()) - m;
-
-  // The weak part joins the information only: J^T J at its blocks' offsets (its tangent-space
-  // Jacobian is J itself, see MarginalizationFactor).
-  Eigen::MatrixXd Hw;
-  if (want_weak && weak_in != nullptr && weak_in->J.rows() > 0) {
-    std::vector<int> offset(blocks_.size(), -1);
+  std::vector<int> offset(blocks_.size(), -1);
+  {
     int dim = 0;
     for (const int id : order) {
       offset[static_cast<std::size_t>(id)] = dim;
       dim += blocks_[static_cast<std::size_t>(id)].tangent_size;
     }
-    Hw = Eigen::MatrixXd::Zero(H.rows(), H.cols());
-    const Eigen::MatrixXd info = weak_in->information();
-    std::vector<std::pair<int, int>> cols;  // (offset in H, offset in weak_in) per block
-    int col = 0;
-    for (const auto& b : weak_in->blocks) {
-      const int id = blockId(b.data);
-      if (id < 0 || offset[static_cast<std::size_t>(id)] < 0)
-        throw std::logic_error("Marginalizer: the weak prior uses a block outside the marginalisation");
-      cols.emplace_back(offset[static_cast<std::size_t>(id)], col);
-      col += b.tangent_size;
-    }
-    for (std::size_t a = 0; a < cols.size(); ++a)
-      for (std::size_t b = 0; b < cols.size(); ++b)
-        Hw.block(cols[a].first, cols[b].first, weak_in->blocks[a].tangent_size, weak_in->blocks[b].tangent_size) +=
-            info.block(cols[a].second, cols[b].second, weak_in->blocks[a].tangent_size, weak_in->blocks[b].tangent_size);
   }
 
   Eigen::MatrixXd Hs = H.bottomRightCorner(n, n);
   Eigen::VectorXd gs = g.tail(n);
-  // With a weak part coming in, the whole information on the kept blocks needs its own Schur
-  // complement; without, it is Hs itself.
-  Eigen::MatrixXd Hs_all;
-  if (Hw.size() > 0) {
-    Hs_all = Hs + Hw.bottomRightCorner(n, n);
-    if (m > 0) {
-      const Eigen::MatrixXd Hmm_all_inv = pseudoInverse(H.topLeftCorner(m, m) + Hw.topLeftCorner(m, m));
-      const Eigen::MatrixXd Hnm_all = H.bottomLeftCorner(n, m) + Hw.bottomLeftCorner(n, m);
-      Hs_all -= Hnm_all * Hmm_all_inv * Hnm_all.transpose();
-    }
-  }
   if (m > 0) {
     const Eigen::MatrixXd Hmm_inv = pseudoInverse(H.topLeftCorner(m, m));
     const Eigen::MatrixXd Hnm = H.bottomLeftCorner(n, m);
     Hs -= Hnm * Hmm_inv * Hnm.transpose();
     gs -= Hnm * Hmm_inv * g.head(m);
   }
-  if (want_weak && Hw.size() == 0) Hs_all = Hs;
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (Hs + Hs.transpose()));
   // Directions known to less than 1e-8 of the strongest (a bias, near 1e11) leave the prior: that
   // is anything known worse than about 3 cm, the absolute position and yaw included once the drift
   // passes that. Keeping them in the optimisation (1e-11: the covariance keeps its gauge, ATE -10 %
   // at feature level) costs MC-VIO at image level (overlay 0.070 -> 0.104 m, slow object 0.046 ->
-  // 0.068 m), so they go to the weak part, which only the covariance sees. README "Consistency and
-  // the prior's floor" has the measurements.
+  // 0.068 m), so only the covariance's whole information keeps them. README "Consistency and the
+  // prior's floor" has the measurements.
   const double max_eigenvalue = std::max(1.0, es.eigenvalues().maxCoeff());
   const double eps = 1e-8 * max_eigenvalue;
   std::vector<int> rows;
@@ -458,38 +446,71 @@ Marginalizer::SplitPrior Marginalizer::marginalizeImpl(const std::set<const doub
   }
   SplitPrior out;
   out.prior = prior;
-  // Nothing dropped and nothing weak carried in: the prior is the whole information.
-  if (!want_weak || (rows.size() == static_cast<std::size_t>(n) && Hw.size() == 0)) return out;
-  // The weak part is what the whole information has beyond the prior: positive semi-definite,
-  // because the Schur complement only grows with information and the prior is a part of Hs.
-  // A pivoted LDL^T factors it several times cheaper than a second eigen-decomposition.
-  const Eigen::MatrixXd rest = Hs_all - prior->J.transpose() * prior->J;
-  // Jacobi-scaled, so the floor is relative to each variable's own information and not to a bias's.
+  if (!want_whole) return out;
+
+  // The whole information: the same system with the optimisation's prior replaced by the whole
+  // information it was cut from. Subtracting the prior's own terms (the very numbers reduce() added)
+  // is exact to rounding of each entry; a difference of eigen-decompositions is not: its error, a
+  // fraction of the biases' 1e11, buried the gauge's few units of information (README).
+  Eigen::MatrixXd Hf = H;
+  if (whole_in != nullptr && prior_in != nullptr) {
+    const auto it = std::find_if(residuals_.begin(), residuals_.end(), [&](const Residual& r) { return r.cost == prior_in; });
+    if (it == residuals_.end()) throw std::logic_error("Marginalizer: the replaced prior is not among the residuals");
+    Eigen::VectorXd r;
+    std::vector<Eigen::MatrixXd> J;
+    if (!linearize(*it, &r, &J)) throw std::logic_error("Marginalizer: a residual block could not be evaluated");
+    for (int a = 0; a < it->count; ++a) {
+      const int oa = offset[static_cast<std::size_t>(block_ids_[static_cast<std::size_t>(it->first + a)])];
+      for (int b = 0; b < it->count; ++b) {
+        const int ob = offset[static_cast<std::size_t>(block_ids_[static_cast<std::size_t>(it->first + b)])];
+        Hf.block(oa, ob, J[a].cols(), J[b].cols()).noalias() -= J[a].transpose() * J[b];
+      }
+    }
+    const Eigen::MatrixXd info = whole_in->information();
+    std::vector<std::pair<int, int>> cols;  // (offset in H, offset in whole_in) per block
+    int col = 0;
+    for (const auto& b : whole_in->blocks) {
+      const int id = blockId(b.data);
+      if (id < 0 || offset[static_cast<std::size_t>(id)] < 0)
+        throw std::logic_error("Marginalizer: the whole prior uses a block outside the marginalisation");
+      cols.emplace_back(offset[static_cast<std::size_t>(id)], col);
+      col += b.tangent_size;
+    }
+    for (std::size_t a = 0; a < cols.size(); ++a)
+      for (std::size_t b = 0; b < cols.size(); ++b)
+        Hf.block(cols[a].first, cols[b].first, whole_in->blocks[a].tangent_size, whole_in->blocks[b].tangent_size) +=
+            info.block(cols[a].second, cols[b].second, whole_in->blocks[a].tangent_size, whole_in->blocks[b].tangent_size);
+  }
+  Eigen::MatrixXd Hs_whole = Hf.bottomRightCorner(n, n);
+  if (m > 0) {
+    const Eigen::MatrixXd Hnm = Hf.bottomLeftCorner(n, m);
+    Hs_whole -= Hnm * scaledPseudoInverse(Hf.topLeftCorner(m, m)) * Hnm.transpose();
+  }
+  // Jacobi-scaled, so the floor is relative to each variable's own information and not to a bias's;
+  // a pivoted LDL^T factors it several times cheaper than an eigen-decomposition.
   const Eigen::VectorXd inv_scale =
-      Hs_all.diagonal().unaryExpr([](double h) { return h > 0 ? 1.0 / std::sqrt(h) : 1.0; });
-  const Eigen::MatrixXd rest_scaled = inv_scale.asDiagonal() * (0.5 * (rest + rest.transpose())) * inv_scale.asDiagonal();
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(rest_scaled);
-  // Scaled, the rounding is of order n * 2e-16 (an estimate, ~1e-14 here). The common-mode (gauge)
-  // directions of a long IMU-only stretch sit between 1e-12 and 1e-10: a 1e-10 floor left 188-328
-  // of 1181 conflict-run frames with a singular covariance, 1e-12 left 0-9 (README).
-  const double eps_weak = 1e-12;
+      Hs_whole.diagonal().unaryExpr([](double h) { return h > 0 ? 1.0 / std::sqrt(h) : 1.0; });
+  const Eigen::MatrixXd scaled = inv_scale.asDiagonal() * (0.5 * (Hs_whole + Hs_whole.transpose())) * inv_scale.asDiagonal();
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(scaled);
+  // Scaled, the rounding is of order n * 2e-16 (an estimate, ~1e-14 here).
+  const double eps_whole = kWholeInformationFloor;
   const Eigen::VectorXd d = ldlt.vectorD();
-  std::vector<int> weak_rows;
+  std::vector<int> whole_rows;
   for (int i = 0; i < n; ++i)
-    if (d[i] > eps_weak) weak_rows.push_back(i);
-  if (weak_rows.empty()) return out;
-  // rest_scaled = P^T L D L^T P: the rows of sqrt(D) L^T P, unscaled, are a square root of rest.
+    if (d[i] > eps_whole) whole_rows.push_back(i);
+  // scaled = P^T L D L^T P: the rows of sqrt(D) L^T P, unscaled, are a square root of Hs_whole.
   const Eigen::MatrixXd LtP = Eigen::MatrixXd(ldlt.matrixU()) * ldlt.transpositionsP().transpose() *
                               inv_scale.cwiseInverse().asDiagonal();
-  auto weak = std::make_shared<MarginalizationPrior>();
-  weak->blocks = prior->blocks;
-  weak->J.resize(static_cast<int>(weak_rows.size()), n);
-  weak->r = Eigen::VectorXd::Zero(static_cast<int>(weak_rows.size()));
-  for (std::size_t k = 0; k < weak_rows.size(); ++k) {
-    const int i = weak_rows[k];
-    weak->J.row(static_cast<int>(k)) = std::sqrt(d[i]) * LtP.row(i);
+  if (whole_rows.empty()) return out;
+  auto whole = std::make_shared<MarginalizationPrior>();
+  whole->blocks = prior->blocks;
+  whole->J.resize(static_cast<int>(whole_rows.size()), n);
+  whole->r = Eigen::VectorXd::Zero(static_cast<int>(whole_rows.size()));
+  for (std::size_t k = 0; k < whole_rows.size(); ++k) {
+    const int i = whole_rows[k];
+    whole->J.row(static_cast<int>(k)) = std::sqrt(d[i]) * LtP.row(i);
   }
-  out.weak = std::move(weak);
+  out.whole = std::move(whole);
   return out;
 }
 

@@ -434,7 +434,7 @@ bool SlidingWindowEstimator::initialize(FramePtr frame, std::string* message) {
   const double s_rp = still ? options_.init_roll_pitch_sigma : options_.init_roll_pitch_sigma_moving;
   const double s_v = still ? options_.init_velocity_sigma_static : options_.init_velocity_sigma_moving;
   const double s_bg = still ? options_.init_gyro_bias_sigma_static : options_.init_gyro_bias_sigma_moving;
-  weak_prior_.reset();
+  whole_prior_.reset();
   prior_ = std::make_shared<MarginalizationPrior>();
   prior_->blocks.push_back({frame->pose.data(), BlockKind::kPose, 7, 6, {frame->pose.begin(), frame->pose.end()}});
   prior_->blocks.push_back({frame->sb.data(), BlockKind::kEuclidean, 9, 9, {frame->sb.begin(), frame->sb.end()}});
@@ -806,12 +806,14 @@ void SlidingWindowEstimator::computeCovariance(EstimatorOutput* out) {
     if (f->has_speed_bias) m.addParameterBlock(f->sb.data(), BlockKind::kEuclidean, 9);
   }
   for (auto& [track, lm] : landmarks_) m.addParameterBlock(lm.param, BlockKind::kLandmark, 3);
+  // The whole information stands in for the solver's prior, its strong part.
   for (const auto& r : records_)
-    if (r.valid) m.addResidualBlock(r.cost, r.loss, r.params(), r.num_params);
-  std::unique_ptr<MarginalizationFactor> weak;
-  if (weak_prior_) {
-    weak = std::make_unique<MarginalizationFactor>(weak_prior_);
-    m.addResidualBlock(weak.get(), nullptr, weak->parameterBlocks());
+    if (r.valid && !(whole_prior_ && r.kind == ResidualKind::kPrior))
+      m.addResidualBlock(r.cost, r.loss, r.params(), r.num_params);
+  std::unique_ptr<MarginalizationFactor> whole;
+  if (whole_prior_) {
+    whole = std::make_unique<MarginalizationFactor>(whole_prior_);
+    m.addResidualBlock(whole.get(), nullptr, whole->parameterBlocks());
   }
   Eigen::MatrixXd cov;
   try {
@@ -831,16 +833,20 @@ void SlidingWindowEstimator::marginalizeWith(const std::vector<const ResidualRec
     if (f->has_speed_bias) m.addParameterBlock(f->sb.data(), BlockKind::kEuclidean, 9);
   }
   for (auto& [track, lm] : landmarks_) m.addParameterBlock(lm.param, BlockKind::kLandmark, 3);
-  for (const auto* r : records) m.addResidualBlock(r->cost, r->loss, r->params(), r->num_params);
+  const ceres::CostFunction* prior_in = nullptr;
+  for (const auto* r : records) {
+    m.addResidualBlock(r->cost, r->loss, r->params(), r->num_params);
+    if (r->kind == ResidualKind::kPrior) prior_in = r->cost;
+  }
   try {
-    auto split = m.marginalizeSplit(drop, weak_prior_.get());
+    auto split = m.marginalizeSplit(drop, prior_in != nullptr ? whole_prior_.get() : nullptr, prior_in);
     prior_ = std::move(split.prior);
-    weak_prior_ = std::move(split.weak);
+    whole_prior_ = std::move(split.whole);
   } catch (const std::exception& e) {
     // Losing the prior loses information but never adds false information.
     spdlog::warn("{}marginalisation failed ({}); prior dropped", kLog, e.what());
     prior_.reset();
-    weak_prior_.reset();
+    whole_prior_.reset();
   }
   // The consumed residuals now live in the prior; a second marginalisation in the same frame must
   // see the new prior instead of them.
@@ -969,7 +975,7 @@ void SlidingWindowEstimator::reset(const std::string& reason) {
   frames_.clear();
   clearLandmarks();
   prior_.reset();
-  weak_prior_.reset();
+  whole_prior_.reset();
   initialized_ = false;
   monitor_->reset();
   ++reset_count_;
@@ -1065,7 +1071,7 @@ void SlidingWindowEstimator::smoothConflictWindow(EstimatorOutput* out) {
   // A translation of the whole window: landmarks live in their anchor frames, and the prior keeps
   // its information if its linearisation point moves along.
   for (auto& f : frames_) Eigen::Map<Eigen::Vector3d>(f->pose.data()) += res.shift;
-  for (auto* prior : {prior_.get(), weak_prior_.get()})
+  for (auto* prior : {prior_.get(), whole_prior_.get()})
     if (prior != nullptr)
       for (auto& b : prior->blocks)
         if (b.kind == BlockKind::kPose) Eigen::Map<Eigen::Vector3d>(b.x_lin.data()) += res.shift;
@@ -1075,7 +1081,7 @@ void SlidingWindowEstimator::smoothConflictWindow(EstimatorOutput* out) {
 }
 
 void SlidingWindowEstimator::setStatePrior(Frame& frame, const Eigen::Matrix<double, 15, 1>& sigmas) {
-  weak_prior_.reset();
+  whole_prior_.reset();
   prior_ = std::make_shared<MarginalizationPrior>();
   prior_->blocks.push_back({frame.pose.data(), BlockKind::kPose, 7, 6, {frame.pose.begin(), frame.pose.end()}});
   prior_->blocks.push_back({frame.sb.data(), BlockKind::kEuclidean, 9, 9, {frame.sb.begin(), frame.sb.end()}});

@@ -225,9 +225,9 @@ TEST(Marginalizer, MarginalCovarianceMatchesFullInverse) {
 
 // Two marginalisations in a row (frame 0, then frame 1, each with the landmarks anchored in it)
 // with a gauge prior that knows yaw only weakly: the optimisation's prior is exactly what
-// marginalize() gives, and prior + weak part carry the whole information of the full problem on
+// marginalize() gives, and the whole information carried along equals the full problem's on
 // frame 2, although the weak yaw is below the optimisation prior's floor.
-TEST(Marginalizer, SplitPriorKeepsTheWeakDirectionsForTheCovariance) {
+TEST(Marginalizer, WholeInformationKeepsTheWeakDirectionsForTheCovariance) {
   SmallProblem sp;
   // Yaw sigma 20 rad, and a velocity that does not tell the heading: nothing else knows yaw.
   sp.gauge->J(5, 5) = sp.gauge->J(6, 6) = sp.gauge->J(7, 7) = 0.05;
@@ -255,14 +255,14 @@ TEST(Marginalizer, SplitPriorKeepsTheWeakDirectionsForTheCovariance) {
   Marginalizer m0;
   sp.registerBlocks(&m0);
   add_touching(&m0, drop0);
-  const auto split0 = m0.marginalizeSplit(drop0, nullptr);
+  const auto split0 = m0.marginalizeSplit(drop0, nullptr, nullptr);
   const auto plain0 = m0.marginalize(drop0);
   ASSERT_TRUE(split0.prior && plain0);
   EXPECT_EQ(split0.prior->J, plain0->J);
   EXPECT_EQ(split0.prior->r, plain0->r);
-  ASSERT_TRUE(split0.weak) << "the weak yaw must reach the weak part";
-  EXPECT_EQ(split0.weak->r.size(), split0.weak->J.rows());
-  EXPECT_TRUE(split0.weak->r.isZero());
+  ASSERT_TRUE(split0.whole);
+  EXPECT_EQ(split0.whole->r.size(), split0.whole->J.rows());
+  EXPECT_TRUE(split0.whole->r.isZero());
 
   const auto drop1 = drop_of(1);
   Marginalizer m1;
@@ -270,10 +270,11 @@ TEST(Marginalizer, SplitPriorKeepsTheWeakDirectionsForTheCovariance) {
   MarginalizationFactor prior0_factor(split0.prior);
   m1.addResidualBlock(&prior0_factor, nullptr, prior0_factor.parameterBlocks());
   add_touching(&m1, drop1);
-  const auto split1 = m1.marginalizeSplit(drop1, split0.weak.get());
-  ASSERT_TRUE(split1.prior && split1.weak);
+  // The whole information of frame 0 stands in for its prior.
+  const auto split1 = m1.marginalizeSplit(drop1, split0.whole.get(), &prior0_factor);
+  ASSERT_TRUE(split1.prior && split1.whole);
   ASSERT_EQ(split1.prior->blocks.size(), 2u);  // frame 2's pose and speed-bias
-  EXPECT_EQ(split1.weak->blocks.size(), split1.prior->blocks.size());
+  EXPECT_EQ(split1.whole->blocks.size(), split1.prior->blocks.size());
   for (const auto& b : split1.prior->blocks)
     EXPECT_TRUE(b.data == sp.poses[2].data() || b.data == sp.sbs[2].data());
 
@@ -287,9 +288,9 @@ TEST(Marginalizer, SplitPriorKeepsTheWeakDirectionsForTheCovariance) {
   hessian(full.get(), order, &H, &g);
   const int n = 15;
   const Eigen::MatrixXd H_marg = H.inverse().topLeftCorner(n, n).inverse();
-  const Eigen::MatrixXd H_split = split1.prior->information() + split1.weak->information();
-  EXPECT_LT((H_split - H_marg).norm(), 1e-6 * H_marg.norm()) << "prior + weak part lose information";
-  // The weak part matters: the optimisation's prior alone misses the yaw information, so its
+  const Eigen::MatrixXd H_split = split1.whole->information();
+  EXPECT_LT((H_split - H_marg).norm(), 1e-6 * H_marg.norm()) << "the whole information lost some";
+  // The whole information matters: the optimisation's prior alone misses the yaw information, so its
   // yaw variance is far larger than the full problem's (or infinite).
   const Eigen::Matrix<double, n, n> cov_full = H_marg.inverse();
   const Eigen::Matrix<double, n, n> cov_split = H_split.inverse();

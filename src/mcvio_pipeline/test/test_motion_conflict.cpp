@@ -1,6 +1,7 @@
 // End-to-end regression of motion-conflict detection and resolution on short feature-level
 // scenarios (mcvio_sim FeatureSimulator, seeded): the estimator in each mode against the
 // reference VIO on the same input.
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -20,6 +21,8 @@ struct ScenarioRun {
   double ride_truth = 0, ride_estimate = 0, secondary_rise = 0;  ///< vertical change over the labelled interval [m]
   bool bias_held_in_conflict = true;  ///< IMU-dominated frames all carry the same biases
   int imu_dominated_frames = 0;
+  int invalid_covariance = 0;  ///< tracked frames whose pose covariance was singular or not finite
+  double max_position_sigma = 0;  ///< largest position standard deviation reported [m]
 };
 
 sim::FeatureSequence makeSequence(sim::ScenarioKind kind, double duration_s, double onset_s, double conflict_s,
@@ -59,6 +62,12 @@ ScenarioRun run(const sim::FeatureSequence& seq, conflict::ResolutionMode mode) 
     r.detected += detected;
     r.detected_labelled += detected && label;
     r.false_alarms += detected && !label;
+    if (!out.covariance_valid) {
+      ++r.invalid_covariance;
+    } else {
+      r.max_position_sigma =
+          std::max(r.max_position_sigma, std::sqrt(out.pose_covariance.topLeftCorner<3, 3>().diagonal().maxCoeff()));
+    }
     e.append({f.t, out.p_WB, out.q_WB});
     g.append({f.t, seq.ground_truth[gi].p_WB, seq.ground_truth[gi].q_WB});
     if (label) {
@@ -100,6 +109,9 @@ TEST(MotionConflict, ElevatorRideImuDominatedCutsTheError) {
               "secondary %.2f m; detected %d/%d labelled, %d false alarms\n",
               ref.ate, imu.ate, aut.ate, imu.ride_truth, imu.ride_estimate, aut.ride_estimate, imu.secondary_rise,
               imu.detected_labelled, imu.labelled, imu.false_alarms);
+  std::printf("elevator covariance: invalid frames imu %d/%d, auto %d/%d; largest position sigma imu %.2f m, auto %.2f m\n",
+              imu.invalid_covariance, imu.frames, aut.invalid_covariance, aut.frames, imu.max_position_sigma,
+              aut.max_position_sigma);
   ASSERT_GT(imu.labelled, 200);
   EXPECT_GT(ref.ate, 1.0);  // the conflict is real: the reference loses metres
   EXPECT_LT(imu.ate, 0.5 * ref.ate);
@@ -109,6 +121,12 @@ TEST(MotionConflict, ElevatorRideImuDominatedCutsTheError) {
   EXPECT_GT(imu.imu_dominated_frames, 50);
   EXPECT_TRUE(imu.bias_held_in_conflict);
   EXPECT_EQ(imu.resets, 0);
+  // Fourteen seconds on the IMU alone: the covariance grows (metres) but stays a covariance. A
+  // gauge lost to rounding made it singular on 20 frames and 5 km wide on another.
+  EXPECT_EQ(imu.invalid_covariance, 0);
+  EXPECT_EQ(aut.invalid_covariance, 0);
+  EXPECT_LT(imu.max_position_sigma, 30.0);
+  EXPECT_LT(aut.max_position_sigma, 30.0);
 }
 
 // A laptop carried 0.3 m in front of the cameras covers most of the view for 12 s.
@@ -118,9 +136,15 @@ TEST(MotionConflict, SelfOcclusionAutoCutsTheError) {
   const auto aut = run(seq, conflict::ResolutionMode::kAuto);
   std::printf("self-occlusion: ATE reference %.3f m, auto %.3f m; detected %d/%d labelled, %d false alarms\n", ref.ate,
               aut.ate, aut.detected_labelled, aut.labelled, aut.false_alarms);
+  std::printf("self-occlusion covariance: invalid frames auto %d/%d, largest position sigma %.2f m\n",
+              aut.invalid_covariance, aut.frames, aut.max_position_sigma);
   EXPECT_LT(aut.ate, 0.5 * ref.ate);
   EXPECT_GT(aut.detected_labelled, aut.labelled * 3 / 4);
   EXPECT_EQ(aut.resets, 0);
+  // Landmarks on the occluder keep a single inlier observation: their Schur complement made the
+  // window's information indefinite on 12 frames.
+  EXPECT_EQ(aut.invalid_covariance, 0);
+  EXPECT_LT(aut.max_position_sigma, 30.0);
 }
 
 // A pedestrian crosses the view: selective elimination keeps the static landmarks.
@@ -141,9 +165,10 @@ TEST(MotionConflict, CleanSequenceHasNoFalseConflicts) {
   const auto seq = makeSequence(sim::ScenarioKind::kNone, 40.0, 12.0, 12.0, 6);
   const auto ref = run(seq, conflict::ResolutionMode::kReference);
   const auto aut = run(seq, conflict::ResolutionMode::kAuto);
-  std::printf("clean: ATE reference %.4f m, auto %.4f m; conflict frames %d/%d\n", ref.ate, aut.ate, aut.detected,
-              aut.frames);
+  std::printf("clean: ATE reference %.4f m, auto %.4f m; conflict frames %d/%d; invalid covariance %d, largest sigma %.3f m\n",
+              ref.ate, aut.ate, aut.detected, aut.frames, aut.invalid_covariance, aut.max_position_sigma);
   ASSERT_GT(aut.frames, 700);
   EXPECT_LE(aut.detected, aut.frames / 50);
   EXPECT_LE(aut.ate, ref.ate * 1.05 + 0.001);
+  EXPECT_EQ(aut.invalid_covariance, 0);
 }

@@ -35,19 +35,21 @@ class Marginalizer {
   /// is left to keep. Throws std::logic_error if a residual couldn't be evaluated.
   std::shared_ptr<MarginalizationPrior> marginalize(const std::set<const double*>& drop) const;
 
-  /// The two parts of a marginalisation: `prior` is what marginalize() returns (directions known
-  /// to at least 1e-8 of the strongest); `weak` holds the rest of the information (J only, r = 0;
-  /// floor 1e-12 of each variable's own information), so that prior + weak is the whole Schur
-  /// complement.
+  /// The two results of a marginalisation. `prior` is what marginalize() returns: the directions
+  /// known to at least 1e-8 of the strongest, for the optimisation. `whole` is all of the Schur
+  /// complement's information (J only, r = 0; Jacobi-scaled floor 1e-13 of each variable's own
+  /// information), for the covariance, which uses it in place of `prior`.
   struct SplitPrior {
     std::shared_ptr<MarginalizationPrior> prior;
-    std::shared_ptr<MarginalizationPrior> weak;  ///< nullptr when there is nothing weak
+    std::shared_ptr<MarginalizationPrior> whole;  ///< nullptr from marginalize()
   };
-  /// As marginalize(), and also carries the weak directions of an earlier marginalisation:
-  /// `weak_in` (may be null; its blocks must be registered) joins the information but not the
-  /// optimisation's prior, which stays exactly what marginalize() gives. The estimator optimises
-  /// with `prior` only and reports covariances with both.
-  SplitPrior marginalizeSplit(const std::set<const double*>& drop, const MarginalizationPrior* weak_in) const;
+  /// As marginalize(), and also the whole information. `whole_in` is the whole information of the
+  /// previous marginalisation and `prior_in` the residual (among the added ones) of the prior that
+  /// came with it: in the whole system `whole_in` replaces `prior_in`. Both null: the added
+  /// residuals are the whole information. The optimisation's prior stays exactly what marginalize()
+  /// gives.
+  SplitPrior marginalizeSplit(const std::set<const double*>& drop, const MarginalizationPrior* whole_in,
+                              const ceres::CostFunction* prior_in) const;
 
   /// Marginal covariance (tangent space) of `block` given all added residuals, with every other
   /// block marginalised. False if the information matrix is not positive definite.
@@ -75,8 +77,8 @@ class Marginalizer {
     int count;
   };
   int blockId(const double* data) const;
-  SplitPrior marginalizeImpl(const std::set<const double*>& drop, const MarginalizationPrior* weak_in,
-                             bool want_weak) const;
+  SplitPrior marginalizeImpl(const std::set<const double*>& drop, const MarginalizationPrior* whole_in,
+                             const ceres::CostFunction* prior_in, bool want_whole) const;
   /// Per-block flags of a pointer set (pointers that are not registered blocks are ignored).
   std::vector<char> blockFlags(const std::set<const double*>& blocks) const;
   /// reducedSystem() over block ids: `order` lists the dense blocks, `dropped` flags the blocks of

@@ -194,9 +194,10 @@ class SlidingWindowEstimator {
   ParameterBlockPool landmark_params_{3};
   std::unordered_map<std::uint64_t, Landmark> landmarks_;
   std::shared_ptr<MarginalizationPrior> prior_;
-  /// Information the optimisation's prior leaves out (Marginalizer::SplitPrior::weak): the
-  /// covariance counts it, the solver never sees it. Same blocks as prior_, or null.
-  std::shared_ptr<MarginalizationPrior> weak_prior_;
+  /// All the information marginalisation has left (Marginalizer::SplitPrior::whole), of which
+  /// prior_ keeps the strong directions: the covariance uses it in place of prior_, the solver
+  /// never sees it. Same blocks as prior_, or null (then prior_ is the whole information).
+  std::shared_ptr<MarginalizationPrior> whole_prior_;
   std::vector<ResidualRecord> records_;  ///< residuals of the last solve
   /// Cost functions of records_ made for one solve, and priors made after it (visual ones live in
   /// observation_costs_, IMU ones in their frame).
