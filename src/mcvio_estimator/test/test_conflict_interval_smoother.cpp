@@ -22,20 +22,23 @@ const Eigen::Vector3d kGravity(0, 0, -9.81);
 const Eigen::Vector3d kTrueAccelBias(0.03, -0.02, 0.01);
 
 /// No rotation; constant walk along x plus a 10 s cycloid ride of 8 m along z from 1 s.
+// EIGEN_PI is a long double: spelled as a double so the vectors need no narrowing.
+constexpr double kPi = EIGEN_PI;
+
 struct Motion {
   static constexpr double kRideStart = 1.0, kRideDuration = 10.0, kRideTravel = 8.0;
   static Eigen::Vector3d accel(double s) {
     const double u = (s - kRideStart) / kRideDuration;
     if (u <= 0 || u >= 1) return Eigen::Vector3d::Zero();
-    return {0, 0, kRideTravel / (kRideDuration * kRideDuration) * 2 * EIGEN_PI * std::sin(2 * EIGEN_PI * u)};
+    return {0, 0, kRideTravel / (kRideDuration * kRideDuration) * 2 * kPi * std::sin(2 * kPi * u)};
   }
   static Eigen::Vector3d velocity(double s) {
     const double u = std::clamp((s - kRideStart) / kRideDuration, 0.0, 1.0);
-    return {0.4, 0, kRideTravel / kRideDuration * (1 - std::cos(2 * EIGEN_PI * u)) * (u > 0 && u < 1 ? 1 : 0)};
+    return {0.4, 0, kRideTravel / kRideDuration * (1 - std::cos(2 * kPi * u)) * (u > 0 && u < 1 ? 1 : 0)};
   }
   static Eigen::Vector3d position(double s) {
     const double u = std::clamp((s - kRideStart) / kRideDuration, 0.0, 1.0);
-    return {0.4 * s, 0, kRideTravel * (u - std::sin(2 * EIGEN_PI * u) / (2 * EIGEN_PI))};
+    return {0.4 * s, 0, kRideTravel * (u - std::sin(2 * kPi * u) / (2 * kPi))};
   }
 };
 

@@ -547,9 +547,11 @@ TEST(MotionConflictMonitor, TracksBornInAConflictWaitForAConsistentTest) {
   EXPECT_GT(walkers, 6);
   std::set<std::uint64_t> eliminated;
   for (const auto& f : frames) eliminated.insert(f.decision.eliminate.begin(), f.decision.eliminate.end());
-  for (const auto id : later.observed)
-    if (isLatePedestrian(id))
+  for (const auto id : later.observed) {
+    if (isLatePedestrian(id)) {
       EXPECT_TRUE(later.on_probation.count(id) != 0 || eliminated.count(id) != 0) << "walking track " << id << " let in";
+    }
+  }
   // After the interval, nothing waits.
   int closed = kLeaveFrame;
   while (closed < kPedestrianFrames && inConflict(frames[closed])) ++closed;
