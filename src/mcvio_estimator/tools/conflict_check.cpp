@@ -77,6 +77,8 @@ int main(int argc, char** argv) {
   int tp = 0, fn = 0, fp = 0, tn = 0;
   double sec_z_end = 0, gt_z_start = 0, gt_z_end = 0, est_z_start = 0, est_z_end = 0;
   bool seen_conflict = false;
+  int invalid_covariance = 0;
+  double max_sigma = 0;
   for (const auto& f : seq.frames) {
     while (k < seq.imu.size() && seq.imu[k].t <= f.t) est.addImu(seq.imu[k++]);
     const auto out = est.addFrame(f);
@@ -91,6 +93,10 @@ int main(int argc, char** argv) {
     pg.push_back(seq.ground_truth[g].p_WB);
     in_conf.push_back(label ? 1 : 0);
     cpu.push_back(out.timings.cpu_total_ms);
+    if (out.covariance_valid)
+      max_sigma = std::max(max_sigma, std::sqrt(out.pose_covariance.topLeftCorner<3, 3>().diagonal().maxCoeff()));
+    else
+      ++invalid_covariance;
     if (label && !seen_conflict) {
       seen_conflict = true;
       gt_z_start = seq.ground_truth[g].p_WB.z();
@@ -126,6 +132,8 @@ int main(int argc, char** argv) {
               argv[1], argv[2], so.duration_s, (unsigned long long)so.seed, pe.size(), est.resetCount(),
               std::sqrt(sq / double(pe.size())), nc ? std::sqrt(sqc / nc) : 0.0, nc, tp + fn ? double(tp) / (tp + fn) : 0.0,
               fp + tn ? double(fp) / (fp + tn) : 0.0, tp, fn, fp, tn, cpu.empty() ? 0.0 : cpu[cpu.size() / 2]);
+  std::printf("  pose covariance: %d frames singular or not finite, largest position sigma %.3f m\n",
+              invalid_covariance, max_sigma);
   if (seen_conflict)
     std::printf("  vertical displacement during the labelled conflict: truth %.3f m, estimate %.3f m, secondary z %.3f m\n",
                 gt_z_end - gt_z_start, est_z_end - est_z_start, sec_z_end);
