@@ -498,10 +498,10 @@ Marginalizer::SplitPrior Marginalizer::marginalizeImpl(const std::set<const doub
   std::vector<int> whole_rows;
   for (int i = 0; i < n; ++i)
     if (d[i] > eps_whole) whole_rows.push_back(i);
+  if (whole_rows.empty()) return out;
   // scaled = P^T L D L^T P: the rows of sqrt(D) L^T P, unscaled, are a square root of Hs_whole.
   const Eigen::MatrixXd LtP = Eigen::MatrixXd(ldlt.matrixU()) * ldlt.transpositionsP().transpose() *
                               inv_scale.cwiseInverse().asDiagonal();
-  if (whole_rows.empty()) return out;
   auto whole = std::make_shared<MarginalizationPrior>();
   whole->blocks = prior->blocks;
   whole->J.resize(static_cast<int>(whole_rows.size()), n);
