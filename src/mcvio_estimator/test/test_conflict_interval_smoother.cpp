@@ -21,10 +21,10 @@ constexpr Timestamp kImuPeriod = 5'000'000;     // 200 Hz
 const Eigen::Vector3d kGravity(0, 0, -9.81);
 const Eigen::Vector3d kTrueAccelBias(0.03, -0.02, 0.01);
 
-/// No rotation; constant walk along x plus a 10 s cycloid ride of 8 m along z from 1 s.
 // EIGEN_PI is a long double: spelled as a double so the vectors need no narrowing.
 constexpr double kPi = EIGEN_PI;
 
+/// No rotation; constant walk along x plus a 10 s cycloid ride of 8 m along z from 1 s.
 struct Motion {
   static constexpr double kRideStart = 1.0, kRideDuration = 10.0, kRideTravel = 8.0;
   static Eigen::Vector3d accel(double s) {
