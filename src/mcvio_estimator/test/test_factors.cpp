@@ -179,6 +179,17 @@ TEST(ImuFactor, MatchesPreintegratorResidualAndVanishesOnExactData) {
   const auto raw = pre.residual(p0, q0, v0 + Eigen::Vector3d(0.1, 0, 0), b2, p1 + Eigen::Vector3d(0.05, 0, 0), q1, v1, b, gravity);
   EXPECT_LT((r - pre.sqrtInformation() * raw).norm(), 1e-6 * r.norm());
   checkJacobians(*f, {pi, sbi, pj, sbj}, 1e-5);
+
+  // Far from the truth in rotation (0.4 rad) and in gyro bias, where the analytic Jacobians'
+  // JrInv(residual) and Jr(bias correction) terms differ most from identities.
+  const Eigen::Quaterniond q_far = q1 * so3::expQuat(Eigen::Vector3d(0.25, -0.2, 0.25));
+  pj = makePose(p1 + Eigen::Vector3d(0.3, -0.1, 0.2), q_far);
+  sbi[3] += 0.15;
+  sbi[4] -= 0.1;
+  sbi[5] += 0.2;
+  ASSERT_TRUE(f->Evaluate(params, r.data(), nullptr));
+  EXPECT_GT(r.head<3>().norm(), 1.0);
+  checkJacobians(*f, {pi, sbi, pj, sbj}, 1e-5);
 }
 
 TEST(ZeroVelocityFactor, Jacobian) {
