@@ -55,6 +55,9 @@ void ConflictOptions::validate() const {
   require(partial_min_count >= 3, "partial_min_count", "must be >= 3", partial_min_count);
   require(partial_min_fraction > 0 && partial_min_fraction <= 1, "partial_min_fraction", "must be in (0, 1]",
           partial_min_fraction);
+  require(hold_moving_min_count >= 1, "hold_moving_min_count", "must be >= 1", hold_moving_min_count);
+  require(hold_moving_min_fraction > 0 && hold_moving_min_fraction <= 1, "hold_moving_min_fraction",
+          "must be in (0, 1]", hold_moving_min_fraction);
   require(min_coherence >= 0 && min_coherence <= 1, "min_coherence", "must be in [0, 1]", min_coherence);
   require(coherence_sigma_m > 0, "coherence_sigma_m", "must be > 0", coherence_sigma_m);
   require(whole_view_fraction > 0 && whole_view_fraction <= 1, "whole_view_fraction", "must be in (0, 1]",
@@ -124,6 +127,8 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("partial_min_fraction", &o.partial_min_fraction);
   read("min_coherence", &o.min_coherence);
   read("coherence_sigma_m", &o.coherence_sigma_m);
+  read("hold_moving_min_count", &o.hold_moving_min_count);
+  read("hold_moving_min_fraction", &o.hold_moving_min_fraction);
   read("whole_view_fraction", &o.whole_view_fraction);
   read("warmup_frames", &o.warmup_frames);
   read("bias_reference_lag_frames", &o.bias_reference_lag_frames);

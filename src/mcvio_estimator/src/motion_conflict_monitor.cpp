@@ -290,8 +290,8 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   if (selective_active && !imu_dominated_ && frames_since_reset_ >= options_.warmup_frames) {
     int moving_in_view = 0;
     for (const auto& obs : cam0) moving_in_view += classifier_.isMoving(obs.first) ? 1 : 0;
-    if (moving_in_view >= options_.partial_min_count &&
-        moving_in_view >= options_.partial_min_fraction * static_cast<double>(cam0.size()))
+    if (moving_in_view >= options_.hold_moving_min_count &&
+        moving_in_view >= options_.hold_moving_min_fraction * static_cast<double>(cam0.size()))
       evidence = true;
   }
   // A conflicting frame still moving keeps its interval open (see hold_min_secondary_speed_mps).

@@ -399,6 +399,21 @@ TEST(MotionConflictMonitor, MovingTracksInViewKeepTheIntervalOpenUntilTheyLeave)
   for (int k = closed; k < kPedestrianFrames; ++k) EXPECT_FALSE(inConflict(frames[k])) << "frame " << k;
 }
 
+// The hold has its own thresholds: with more moving tracks required than the pedestrian has, the
+// interval closes once the standing pedestrian agrees with the IMU, long before it leaves.
+TEST(MotionConflictMonitor, MovingTracksHoldOnlyAboveTheHoldThresholds) {
+  conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
+  o.hold_moving_min_count = kPedestrianPoints + 1;
+  const auto frames = run(pedestrianScene(), o, kPedestrianFrames);
+  const int entry = firstFrame(frames, inConflict);
+  ASSERT_GE(entry, kWalkFrame);
+  ASSERT_LE(entry, kWalkFrame + 4);
+  int closed = entry;
+  while (closed < kPedestrianFrames && inConflict(frames[closed])) ++closed;
+  EXPECT_LE(closed, kStandFrame + o.horizon_frames + o.exit_frames + 2);
+  for (int k = closed; k < kPedestrianFrames; ++k) EXPECT_FALSE(inConflict(frames[k])) << "frame " << k;
+}
+
 TEST(MotionConflictMonitor, HeldBiasComesFromASettledEstimateNotATransient) {
   // The reference bias lags bias_reference_lag_frames (40) behind the newest conflict-free frame:
   // with the cabin at frame 130 and the interval opening around 134, the lagged candidate is

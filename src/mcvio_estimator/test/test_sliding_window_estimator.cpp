@@ -332,7 +332,11 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_EQ(c.new_landmark_probation, dc.new_landmark_probation);
   EXPECT_EQ(c.probation_agreeing_tests, dc.probation_agreeing_tests);
   EXPECT_EQ(c.exit_bias_hold_frames, dc.exit_bias_hold_frames);
-  EXPECT_EQ(root["conflict"].size(), 43u) << "every conflict option appears once";
+  EXPECT_EQ(c.partial_min_count, dc.partial_min_count);
+  EXPECT_DOUBLE_EQ(c.partial_min_fraction, dc.partial_min_fraction);
+  EXPECT_EQ(c.hold_moving_min_count, dc.hold_moving_min_count);
+  EXPECT_DOUBLE_EQ(c.hold_moving_min_fraction, dc.hold_moving_min_fraction);
+  EXPECT_EQ(root["conflict"].size(), 45u) << "every conflict option appears once";
 }
 
 }  // namespace

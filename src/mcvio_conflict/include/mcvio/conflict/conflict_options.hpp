@@ -48,6 +48,12 @@ struct ConflictOptions {
   double partial_min_fraction = 0.08;
   double min_coherence = 0.6;
   double coherence_sigma_m = 0.02;     ///< 3D tolerance floor of the rigid-motion fit
+  /// Selective and auto: tracks already found moving keep an open partial conflict open while at
+  /// least this many of them, and this share of the frame's features, are still in view. Stricter
+  /// than the detection: a few static tracks misclassified during a large occlusion stay in view
+  /// after it and would hold the interval for seconds.
+  int hold_moving_min_count = 8;
+  double hold_moving_min_fraction = 0.08;
   /// Above this share of disagreeing landmarks the conflict covers the whole view.
   double whole_view_fraction = 0.6;
   /// Frames after (re)initialisation before the detectors may report evidence: the first
