@@ -57,7 +57,11 @@ int main(int argc, char** argv) {
   if (argc > 6) so.scenario.onset_s = std::atof(argv[6]);
   if (argc > 7) so.scenario.duration_s = std::atof(argv[7]);
   sim::FeatureSimulatorOptions fo;
-  const auto seq = sim::simulateFeatureSequence(so, fo);
+  auto seq = sim::simulateFeatureSequence(so, fo);
+  // As `mcvio bench` runs it (no oracle frontend): MCVIO_CLEAR_TRACK_LABELS=1.
+  if (const char* clear = std::getenv("MCVIO_CLEAR_TRACK_LABELS"); clear != nullptr && std::string(clear) == "1")
+    for (auto& f : seq.frames)
+      for (auto& o : f.features) o.label = TrackLabel::kUnknown;
   estimator::EstimatorOptions eo;
   eo.observation_sigma_px = fo.pixel_noise_sigma;
   eo.conflict.mode = conflict::resolutionModeFromString(argv[2]);
