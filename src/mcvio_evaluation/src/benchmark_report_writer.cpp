@@ -224,6 +224,7 @@ std::string BenchmarkReportWriter::toJson(const BenchmarkResult& result) {
                          {"frames", sr.frames},
                          {"conflict_frames", sr.conflict_frames},
                          {"simulate_s", sr.simulate_s},
+                         {"clean_floor_ate_posyaw_m", number(sr.clean_floor_ate_m)},
                          {"runs", runs}});
   }
   j["sequences"] = sequences;
@@ -296,6 +297,28 @@ std::string BenchmarkReportWriter::toMarkdown(const BenchmarkResult& result) {
     }
   }
   if (ride_header) md << "\n";
+
+  bool floor_header = false;
+  for (const auto& sr : result.sequences) {
+    const BenchmarkRun* ref = sr.find("reference");
+    if (!std::isfinite(sr.clean_floor_ate_m) || ref == nullptr || !std::isfinite(ref->ate_posyaw_m)) continue;
+    if (!floor_header) {
+      md << "## Clean floor (reference on the same sequence without the conflict)\n\n"
+         << "No method gets below the VIO's own error on the clean sequence: the largest reachable ATE reduction is "
+            "100 (reference - floor) / reference. Excess removed: 100 (reference - mode) / (reference - floor).\n\n"
+         << "| Sequence | Clean floor ATE pos+yaw [m] | Reference [m] | Largest reachable reduction [%] | Mode | ATE [m] | "
+            "Excess removed [%] |\n|---|---|---|---|---|---|---|\n";
+      floor_header = true;
+    }
+    const double excess = ref->ate_posyaw_m - sr.clean_floor_ate_m;
+    for (const auto& r : sr.runs) {
+      if (r.mode == "reference") continue;
+      md << "| " << sr.sequence.name << " | " << fmt("%.3f", sr.clean_floor_ate_m) << " | " << fmt("%.3f", ref->ate_posyaw_m)
+         << " | " << fmt("%.1f", 100.0 * excess / ref->ate_posyaw_m) << " | " << r.mode << " | " << fmt("%.3f", r.ate_posyaw_m)
+         << " | " << (excess > 0 ? fmt("%.1f", 100.0 * (ref->ate_posyaw_m - r.ate_posyaw_m) / excess) : "n/a") << " |\n";
+    }
+  }
+  if (floor_header) md << "\n";
 
   if (!o.sweep_durations_s.empty()) {
     md << "## ATE versus conflict duration (ATE pos+yaw RMSE [m]; in brackets: over the conflict frames)\n\n"

@@ -250,5 +250,15 @@ TEST(BenchmarkSuite, ShortElevatorRunEndToEnd) {
   EXPECT_NE(md.find("| elevator_s1 | imu |"), std::string::npos);
   EXPECT_NE(md.find("## Elevator ride"), std::string::npos);
   EXPECT_NE(md.find("| vehicle | 0 |"), std::string::npos);
+  EXPECT_EQ(md.find("## Clean floor"), std::string::npos) << "no floor was measured";
+  // A clean floor at half the reference's error: at most 50 % reduction is reachable.
+  BenchmarkResult with_floor = result;
+  with_floor.sequences[0].clean_floor_ate_m = 0.5 * sr.runs[0].ate_posyaw_m;
+  const std::string md_floor = BenchmarkReportWriter::toMarkdown(with_floor);
+  const auto floor_at = md_floor.find("## Clean floor");
+  ASSERT_NE(floor_at, std::string::npos);
+  EXPECT_NE(md_floor.find(" | 50.0 | imu | ", floor_at), std::string::npos) << md_floor.substr(floor_at);
+  EXPECT_DOUBLE_EQ(nlohmann::json::parse(BenchmarkReportWriter::toJson(with_floor))["sequences"][0]["clean_floor_ate_posyaw_m"].get<double>(),
+                   with_floor.sequences[0].clean_floor_ate_m);
   fs::remove_all(dir);
 }

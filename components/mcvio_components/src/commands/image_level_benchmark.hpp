@@ -12,7 +12,8 @@ namespace mcvio::cli {
 /// with conflict labels), every mode runs `mcvio run` (runOffline) into WORK/runs/<name>/<mode>,
 /// and BenchmarkSuite::evaluateSequence measures the runs as at feature level. With a semi-real
 /// source, an extra sequence is rendered along its recorded ground truth with its real IMU and
-/// the injected-overlay experiment (`mcvio inject --scenario overlay`) is added on top of it.
+/// the injected-overlay experiment (`mcvio inject --scenario overlay`) is added on top of it, with
+/// `reference` also run on the sequence without the overlay (the clean floor of the report).
 /// Real EuRoC folders can be added as clean sequences. Rendering takes about a minute per minute
 /// of sequence, so this is for a few sequences.
 class ImageLevelBenchmark {
@@ -36,6 +37,10 @@ class ImageLevelBenchmark {
   evaluation::BenchmarkResult run(const evaluation::BenchmarkSuite::Progress& progress = {}) const;
 
  private:
+  /// `reference` on the overlay's base sequence (the same images without the overlay), into
+  /// WORK/runs/<name>_base/reference: its ATE pos+yaw is the floor no mode can go below.
+  double cleanFloor(const std::string& base_dir, const evaluation::BenchmarkSequence& sequence) const;
+
   Options options_;
 };
 
