@@ -295,6 +295,7 @@ TEST(EstimatorOptions, LoadsFromYamlAndNamesBadKeys) {
   expectError("max_iterations: many\n", "max_iterations");
   expectError("robust_loss: tukey\n", "robust_loss");
   expectError("imu_windw_size: 4\n", "imu_windw_size");
+  expectError("conflict:\n  hold_moving_min_fraction: 0\n", "hold_moving_min_fraction");
 
   const std::string path = ::testing::TempDir() + "/estimator_options_test.yaml";
   std::ofstream(path) << "estimator:\n  keyframe_window_size: 3\n";

@@ -55,8 +55,9 @@ void addBenchCommand(CLI::App& app, CommandContext&) {
       "offline pipeline per mode (`mcvio run`, OUT/images/runs/<sequence>/<mode>); it skips the duration\n"
       "sweep unless --duration-sweep is given, and with --semi-real adds the injected-overlay experiment:\n"
       "the office rendered along that EuRoC folder's ground truth with its real IMU, and `mcvio inject\n"
-      "--scenario overlay` on top (sequence overlay_semi_real); --real adds recorded EuRoC folders as\n"
-      "clean sequences.\n"
+      "--scenario overlay` on top (sequence overlay_semi_real), plus `reference` on the same images\n"
+      "without the overlay: the clean floor no mode can go below (report section \"Clean floor\");\n"
+      "--real adds recorded EuRoC folders as clean sequences.\n"
       "Examples:\n"
       "  mcvio bench --out /tmp/bench                          the whole suite (tens of minutes)\n"
       "  mcvio bench --out /tmp/bench --jobs 2                 two sequences at a time\n"
@@ -149,6 +150,7 @@ void addBenchCommand(CLI::App& app, CommandContext&) {
     if (!opt->quiet)
       std::cerr << "mcvio bench (" << (opt->level == "images" ? "image" : "feature") << " level): " << sequences << " sequences x " << o.modes.size()
                 << " modes = " << sequences * o.modes.size() << " runs"
+                << (opt->level == "images" && !opt->semi_real.empty() ? " + reference on the overlay's clean base" : "")
                 << (opt->level == "features" ? ", " + std::to_string(o.jobs) + " sequence(s) at a time" : std::string())
                 << "\n";
     const auto progress = [&](std::size_t done, std::size_t total, const std::string& line) {
