@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # `mcvio bench --quick` end to end: 2 scenarios x 2 modes at feature level, the report files exist
-# and hold sane measured numbers, progress lines per run, bad options exit 2 naming the option.
+# and hold sane measured numbers, progress lines per run, bad options exit 2 naming the option; a
+# tiny image-level run finds the pedestrian's clean floor.
 set -u
 mcvio=$1
 tmp=$(mktemp -d)
@@ -46,6 +47,24 @@ modes = {t["mode"] for t in j["targets"]}
 assert modes == {"auto"}, modes
 PY
 [ "$failed" -eq 0 ] && echo "ok: quick suite report"
+
+# Image level, tiny: the pedestrian is rendered along the clean office's trajectory with its IMU, so
+# the office's reference run is its clean floor.
+out=$("$mcvio" bench --level images --scenarios none,pedestrian --modes reference,auto --sequence-duration 8 \
+      --onset 3 --conflict-duration 3 --out "$tmp/bi" 2>"$tmp/err_bi")
+rc=$?
+[ "$rc" -eq 0 ] || { fail "bench --level images exited $rc"; cat "$tmp/err_bi"; }
+grep -qF "## Clean floor" <<<"$out" || fail "no clean floor section: $out"
+[ "$(grep -cE '^\[[1-4]/4\] ' "$tmp/err_bi")" -eq 4 ] || fail "want 4 image-level progress lines: $(cat "$tmp/err_bi")"
+python3 - "$tmp/bi/bench.json" <<'PY' || fail "image-level bench.json clean floor"
+import json, sys
+seqs = {s["name"]: s for s in json.load(open(sys.argv[1]))["sequences"]}
+none, ped = seqs["none_s1"], seqs["pedestrian_s1"]
+assert none["clean_floor_ate_posyaw_m"] is None, none["clean_floor_ate_posyaw_m"]
+floor = ped["clean_floor_ate_posyaw_m"]
+assert floor is not None and floor == none["runs"][0]["ate_posyaw_rmse_m"], (floor, none["runs"][0])
+PY
+[ "$failed" -eq 0 ] && echo "ok: image-level clean floor"
 
 expect() {  # expect PATTERN -- command...: exit 2 and PATTERN in the output
   local pattern=$1

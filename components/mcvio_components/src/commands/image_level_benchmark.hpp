@@ -13,7 +13,8 @@ namespace mcvio::cli {
 /// and BenchmarkSuite::evaluateSequence measures the runs as at feature level. With a semi-real
 /// source, an extra sequence is rendered along its recorded ground truth with its real IMU and
 /// the injected-overlay experiment (`mcvio inject --scenario overlay`) is added on top of it, with
-/// `reference` also run on the sequence without the overlay (the clean floor of the report).
+/// `reference` also run on the sequence without the overlay (the clean floor of the report; a
+/// scenario with the clean office's trajectory and IMU gets that office's reference as its floor).
 /// Real EuRoC folders can be added as clean sequences. Rendering takes about a minute per minute
 /// of sequence, so this is for a few sequences.
 class ImageLevelBenchmark {

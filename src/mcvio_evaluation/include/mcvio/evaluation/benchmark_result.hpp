@@ -105,9 +105,10 @@ struct BenchmarkSequenceResult {
   std::size_t conflict_frames = 0;  ///< frames labelled in conflict
   double simulate_s = 0;            ///< wall clock of the feature simulation
   std::vector<BenchmarkRun> runs;   ///< in options.modes order
-  /// ATE pos+yaw of `reference` on the same sequence without its conflict (the injected overlay's
-  /// base sequence), NaN when not run. No method can get below the clean run's own error, so the
-  /// largest reachable reduction is 100 (reference - floor) / reference.
+  /// ATE pos+yaw of `reference` on the same sequence without its conflict (image level: the
+  /// injected overlay's base sequence, or the clean office rendered along the same trajectory with
+  /// the same IMU), NaN when there is none. No method can get below the clean run's own error, so
+  /// the largest reachable reduction is 100 (reference - floor) / reference.
   double clean_floor_ate_m = BenchmarkRun::kNaN;
   const BenchmarkRun* find(const std::string& mode) const;
 };
