@@ -58,17 +58,20 @@ bool ImuFactor::Evaluate(double const* const* parameters, double* residuals, dou
   const Matrix3d Jr_inv = so3::rightJacobianInverse(r.segment<3>(0));
   using Tangent = Eigen::Matrix<double, 15, 6>;
   using SpeedBias = Eigen::Matrix<double, 15, 9>;
-  using Pose = Eigen::Matrix<double, 15, 7, Eigen::RowMajor>;
+  // Whitens a pose block's tangent Jacobian and lifts its rotation columns to quaternion coordinates.
+  auto writePose = [this](const Tangent& J, const Eigen::Quaterniond& q, double* out) {
+    const Tangent W = sqrt_info_ * J;
+    Eigen::Map<Eigen::Matrix<double, 15, 7, Eigen::RowMajor>> out_J(out);
+    out_J.leftCols<3>() = W.leftCols<3>();
+    out_J.rightCols<4>() = W.rightCols<3>() * PoseManifold::liftQuaternionJacobian(q);
+  };
   if (jacobians[0] != nullptr) {
     Tangent J = Tangent::Zero();
     J.block<3, 3>(0, 3) = -Jr_inv * (q_j.conjugate() * q_i).toRotationMatrix();
     J.block<3, 3>(3, 3) = so3::hat(v_term);
     J.block<3, 3>(6, 0) = -R_i_T;
     J.block<3, 3>(6, 3) = so3::hat(p_term);
-    const Tangent W = sqrt_info_ * J;
-    Eigen::Map<Pose> out_J(jacobians[0]);
-    out_J.leftCols<3>() = W.leftCols<3>();
-    out_J.rightCols<4>() = W.rightCols<3>() * PoseManifold::liftQuaternionJacobian(q_i);
+    writePose(J, q_i, jacobians[0]);
   }
   if (jacobians[1] != nullptr) {
     SpeedBias J = SpeedBias::Zero();
@@ -88,10 +91,7 @@ bool ImuFactor::Evaluate(double const* const* parameters, double* residuals, dou
     Tangent J = Tangent::Zero();
     J.block<3, 3>(0, 3) = Jr_inv;
     J.block<3, 3>(6, 0) = R_i_T;
-    const Tangent W = sqrt_info_ * J;
-    Eigen::Map<Pose> out_J(jacobians[2]);
-    out_J.leftCols<3>() = W.leftCols<3>();
-    out_J.rightCols<4>() = W.rightCols<3>() * PoseManifold::liftQuaternionJacobian(q_j);
+    writePose(J, q_j, jacobians[2]);
   }
   if (jacobians[3] != nullptr) {
     SpeedBias J = SpeedBias::Zero();
