@@ -16,8 +16,8 @@ namespace mcvio::estimator {
 ///
 /// Analytic Jacobians (Forster et al., T-RO 2017, appendix), in the tangent space of PoseManifold
 /// and lifted to the quaternion's coordinates the way ReprojectionFactor does it: automatic
-/// differentiation carried 32 dual numbers through every operation and cost about as much as all
-/// reprojection factors of a window together.
+/// differentiation carried 32 dual numbers through every operation, about 1 ms of backend CPU per
+/// frame (median 8.1 -> 7.0 ms on the rendered office).
 class ImuFactor : public ceres::SizedCostFunction<15, 7, 9, 7, 9> {
  public:
   ImuFactor(const ImuPreintegrator& pre, const Eigen::Vector3d& gravity);
