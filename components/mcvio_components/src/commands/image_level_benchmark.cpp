@@ -214,7 +214,7 @@ ev::BenchmarkResult ImageLevelBenchmark::run(const ev::BenchmarkSuite::Progress&
   }
   // A scenario rendered along the clean office's trajectory with its IMU (a pedestrian, a carried
   // laptop, a slow object in an otherwise static world) has that office as its clean floor.
-  for (std::size_t i = 0; i < plan.size() && i < real_begin; ++i) {
+  for (std::size_t i = 0; i < real_begin; ++i) {
     auto& sr = result.sequences[i];
     if (!sr.sequence.hasConflict() || sr.sequence.scenario == "injected_overlay") continue;
     for (std::size_t c = 0; c < real_begin; ++c) {
