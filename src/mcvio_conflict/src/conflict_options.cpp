@@ -55,6 +55,9 @@ void ConflictOptions::validate() const {
   require(partial_min_count >= 3, "partial_min_count", "must be >= 3", partial_min_count);
   require(partial_min_fraction > 0 && partial_min_fraction <= 1, "partial_min_fraction", "must be in (0, 1]",
           partial_min_fraction);
+  require(frontend_min_count >= 3, "frontend_min_count", "must be >= 3", frontend_min_count);
+  require(frontend_min_fraction > 0 && frontend_min_fraction <= 1, "frontend_min_fraction", "must be in (0, 1]",
+          frontend_min_fraction);
   require(hold_moving_min_count >= 1, "hold_moving_min_count", "must be >= 1", hold_moving_min_count);
   require(hold_moving_min_fraction > 0 && hold_moving_min_fraction <= 1, "hold_moving_min_fraction",
           "must be in (0, 1]", hold_moving_min_fraction);
@@ -127,6 +130,9 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("partial_min_fraction", &o.partial_min_fraction);
   read("min_coherence", &o.min_coherence);
   read("coherence_sigma_m", &o.coherence_sigma_m);
+  read("frontend_evidence", &o.frontend_evidence);
+  read("frontend_min_count", &o.frontend_min_count);
+  read("frontend_min_fraction", &o.frontend_min_fraction);
   read("hold_moving_min_count", &o.hold_moving_min_count);
   read("hold_moving_min_fraction", &o.hold_moving_min_fraction);
   read("whole_view_fraction", &o.whole_view_fraction);

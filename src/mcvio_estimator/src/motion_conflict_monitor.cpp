@@ -216,7 +216,7 @@ void MotionConflictMonitor::solveVisionIncrement(const Entry& prev, const ImuBuf
 
 MotionConflictMonitor::Decision MotionConflictMonitor::process(
     Timestamp t, const ObservationMap& cam0, const ObservationMap& cam1,
-    const std::unordered_set<std::uint64_t>& frontend_inconsistent, const ImuBuffer& imu) {
+    const FrontendVerdicts& frontend, const ImuBuffer& imu) {
   Decision d;
   const auto mode = options_.mode;
   d.report.propagated_threshold = options_.propagated_chi2_threshold;
@@ -284,6 +284,16 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
       verdicts = lm.verdicts;
     }
   }
+  // The frontend detector (ConflictOptions::frontend_evidence) also sees tracks without stereo.
+  if (options_.frontend_evidence && !imu_dominated_ && frontend.checked >= options_.min_landmarks_tested) {
+    tested = true;
+    const double labelled = static_cast<double>(frontend.inconsistent.size());
+    const double fraction = labelled / static_cast<double>(frontend.checked);
+    score = std::max(score, std::min(labelled / options_.frontend_min_count, fraction / options_.frontend_min_fraction));
+    if (labelled >= options_.frontend_min_count && fraction >= options_.frontend_min_fraction &&
+        frames_since_reset_ >= options_.warmup_frames)
+      evidence = true;
+  }
   // Tracks already found moving and still in view keep a partial conflict open: selective
   // elimination has taken them out of the test above, so without this the interval would close
   // while the pedestrian or the carried object is still there.
@@ -324,7 +334,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     for (const auto& v : verdicts)
       if (classifier_.addVerdict(v.track_id, v.inconsistent)) d.eliminate.push_back(v.track_id);
     if (options_.use_frontend_labels)
-      for (const auto id : frontend_inconsistent)
+      for (const auto id : frontend.inconsistent)
         if (cam0.count(id) != 0 && classifier_.addVerdict(id, true)) d.eliminate.push_back(id);
   }
   if (!was_active && state != conflict::ConflictIntervalTracker::State::kNone) active_since_ = t;

@@ -339,10 +339,13 @@ EstimatorOutput SlidingWindowEstimator::addFrame(const FeatureFrame& input) {
 
   t_stage = Clock::now();
   Frame& cur = newest();
-  std::unordered_set<std::uint64_t> labelled_inconsistent;
-  for (const auto& o : input.features)
-    if (o.camera_index == 0 && o.label == TrackLabel::kInconsistent) labelled_inconsistent.insert(o.track_id);
-  const auto decision = monitor_->process(input.t, cur.cam0, cur.cam1, labelled_inconsistent, imu_);
+  MotionConflictMonitor::FrontendVerdicts frontend;
+  for (const auto& o : input.features) {
+    if (o.camera_index != 0 || o.label == TrackLabel::kUnknown) continue;
+    ++frontend.checked;
+    if (o.label == TrackLabel::kInconsistent) frontend.inconsistent.insert(o.track_id);
+  }
+  const auto decision = monitor_->process(input.t, cur.cam0, cur.cam1, frontend, imu_);
   out.conflict = decision.report;
   applyConflictDecision(decision, cur);
   if (decision.rewind) p_pred = decision.rewind_state.p;

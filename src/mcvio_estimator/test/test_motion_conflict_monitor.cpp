@@ -82,6 +82,8 @@ struct Point {
   double attach_s = kNever;
   double appear_s = -kNever;
   double leave_s = kNever;
+  bool stereo = true;                  ///< false: seen by cam0 only (too close for a stereo match)
+  bool frontend_inconsistent = false;  ///< the frontend labels it inconsistent while in view
 
   Eigen::Vector3d world(double s) const {
     if (!(s > walk_start_s)) return X_W;
@@ -99,6 +101,9 @@ struct Scenario {
   ImuBias imu_bias;  ///< the sensor's true bias, contained in the samples
   /// The bias committed as frame k's solved estimate; the true bias unless set.
   std::function<ImuBias(int)> committed_bias;
+  /// The frontend's verdicts reach the monitor (every cam0 track checked); off: none, as from a
+  /// frontend without the check.
+  bool frontend_labels = false;
 };
 
 /// Static points ahead of the device (it moves along body x, which cam0 looks along).
@@ -157,6 +162,7 @@ std::vector<Frame> run(const Scenario& sc, const conflict::ConflictOptions& opti
     }
     const double s = frameSeconds(k);
     MotionConflictMonitor::ObservationMap cam0, cam1;
+    MotionConflictMonitor::FrontendVerdicts frontend;
     Frame f;
     for (const auto& p : sc.points) {
       if (s >= p.leave_s || s < p.appear_s) continue;
@@ -168,10 +174,16 @@ std::vector<Frame> run(const Scenario& sc, const conflict::ConflictOptions& opti
       if (std::abs(n0.x()) > 1.2 || std::abs(n0.y()) > 0.85 || std::abs(n1.x()) > 1.2 || std::abs(n1.y()) > 0.85)
         continue;
       cam0[p.id] = n0;
-      cam1[p.id] = n1;
-      f.observed.insert(p.id);
+      if (p.stereo) {
+        cam1[p.id] = n1;
+        f.observed.insert(p.id);
+      }
+      if (sc.frontend_labels) {
+        ++frontend.checked;
+        if (p.frontend_inconsistent) frontend.inconsistent.insert(p.id);
+      }
     }
-    f.decision = monitor.process(t, cam0, cam1, {}, imu);
+    f.decision = monitor.process(t, cam0, cam1, frontend, imu);
     for (const auto id : f.observed) {
       first_seen.emplace(id, t);
       if (monitor.onProbation(id, first_seen[id])) f.on_probation.insert(id);
@@ -412,6 +424,71 @@ TEST(MotionConflictMonitor, MovingTracksHoldOnlyAboveTheHoldThresholds) {
   while (closed < kPedestrianFrames && inConflict(frames[closed])) ++closed;
   EXPECT_LE(closed, kStandFrame + o.horizon_frames + o.exit_frames + 2);
   for (int k = closed; k < kPedestrianFrames; ++k) EXPECT_FALSE(inConflict(frames[k])) << "frame " << k;
+}
+
+namespace {
+
+// A laptop carried 0.5 m in front of the device from frame 100 to 140: 60 tracks without stereo
+// that the frontend labels inconsistent, covering all but 6 static points; when it leaves, 60
+// static points it hid come into view as new tracks. Six static points are too few for both
+// other detectors (the landmark detector needs min_landmarks_tested, the vision-only motion 8).
+constexpr int kLaptopFrame = 100, kLaptopGoneFrame = 140, kLaptopFrames = 170;
+
+Scenario laptopScene() {
+  Scenario sc;
+  sc.frontend_labels = true;
+  sc.points = staticPoints(6, 0, 11);
+  auto revealed = staticPoints(60, 100, 13);
+  for (auto& p : revealed) p.appear_s = frameSeconds(kLaptopGoneFrame);
+  sc.points.insert(sc.points.end(), revealed.begin(), revealed.end());
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double attach = frameSeconds(kLaptopFrame);
+  for (int i = 0; i < 60; ++i) {
+    Point p;
+    p.id = 1000 + static_cast<std::uint64_t>(i);
+    p.X_W = sc.traj.position(attach) + Eigen::Vector3d(0.5, 0.3 * u(rng), 0.2 * u(rng));
+    p.attach_s = attach;
+    p.appear_s = attach;
+    p.leave_s = frameSeconds(kLaptopGoneFrame);
+    p.stereo = false;
+    p.frontend_inconsistent = true;
+    sc.points.push_back(p);
+  }
+  return sc;
+}
+
+}  // namespace
+
+// The landmark detector cannot test tracks without stereo, and 6 static points are too few for
+// any other test: only the frontend's labels see the laptop. When it leaves, the revealed tracks are too new
+// for the landmark detector's horizon, but the frontend checks them at once.
+TEST(MotionConflictMonitor, FrontendLabelsDetectAnOccluderWithoutStereo) {
+  const conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
+  const auto frames = run(laptopScene(), o, kLaptopFrames);
+  for (int k = 0; k < kLaptopFrame; ++k) EXPECT_FALSE(inConflict(frames[k])) << "frame " << k;
+  EXPECT_LT(frames[kLaptopFrame + 5].decision.report.landmarks_tested, o.min_landmarks_tested);
+  const int entry = firstFrame(frames, inConflict);
+  ASSERT_GE(entry, kLaptopFrame);
+  EXPECT_LE(entry, kLaptopFrame + o.enter_frames - 1);
+  for (int k = entry; k < kLaptopGoneFrame; ++k) {
+    EXPECT_TRUE(inConflict(frames[k])) << "frame " << k;
+    EXPECT_FALSE(frames[k].decision.imu_dominated) << "frame " << k;
+  }
+  int closed = kLaptopGoneFrame;
+  while (closed < kLaptopFrames && inConflict(frames[closed])) ++closed;
+  EXPECT_LE(closed, kLaptopGoneFrame + o.exit_frames - 1);
+  EXPECT_LT(closed, kLaptopGoneFrame + o.horizon_frames) << "closed by the landmark detector, not the frontend's";
+  for (int k = closed; k < kLaptopFrames; ++k) EXPECT_FALSE(inConflict(frames[k])) << "frame " << k;
+
+  // Without the frontend detector nothing is tested while the laptop is there: no interval.
+  conflict::ConflictOptions off = o;
+  off.frontend_evidence = false;
+  for (const auto& f : run(laptopScene(), off, kLaptopFrames)) EXPECT_FALSE(inConflict(f));
+  // Below its thresholds (here: more labelled tracks than the laptop has) it raises nothing.
+  conflict::ConflictOptions strict = o;
+  strict.frontend_min_count = 61;
+  for (const auto& f : run(laptopScene(), strict, kLaptopFrames)) EXPECT_FALSE(inConflict(f));
 }
 
 TEST(MotionConflictMonitor, HeldBiasComesFromASettledEstimateNotATransient) {

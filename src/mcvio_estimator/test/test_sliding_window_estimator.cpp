@@ -296,6 +296,9 @@ TEST(EstimatorOptions, LoadsFromYamlAndNamesBadKeys) {
   expectError("robust_loss: tukey\n", "robust_loss");
   expectError("imu_windw_size: 4\n", "imu_windw_size");
   expectError("conflict:\n  hold_moving_min_fraction: 0\n", "hold_moving_min_fraction");
+  expectError("conflict:\n  frontend_min_count: 2\n", "frontend_min_count");
+  expectError("conflict:\n  frontend_min_fraction: 1.5\n", "frontend_min_fraction");
+  expectError("conflict:\n  frontend_evidence: maybe\n", "frontend_evidence");
 
   const std::string path = ::testing::TempDir() + "/estimator_options_test.yaml";
   std::ofstream(path) << "estimator:\n  keyframe_window_size: 3\n";
@@ -337,7 +340,10 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_DOUBLE_EQ(c.partial_min_fraction, dc.partial_min_fraction);
   EXPECT_EQ(c.hold_moving_min_count, dc.hold_moving_min_count);
   EXPECT_DOUBLE_EQ(c.hold_moving_min_fraction, dc.hold_moving_min_fraction);
-  EXPECT_EQ(root["conflict"].size(), 45u) << "every conflict option appears once";
+  EXPECT_EQ(c.frontend_evidence, dc.frontend_evidence);
+  EXPECT_EQ(c.frontend_min_count, dc.frontend_min_count);
+  EXPECT_DOUBLE_EQ(c.frontend_min_fraction, dc.frontend_min_fraction);
+  EXPECT_EQ(root["conflict"].size(), 48u) << "every conflict option appears once";
 }
 
 }  // namespace

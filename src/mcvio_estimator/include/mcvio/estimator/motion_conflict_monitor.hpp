@@ -69,13 +69,19 @@ class MotionConflictMonitor {
     Eigen::Matrix3d rotation_sqrt_information = Eigen::Matrix3d::Identity();
   };
 
+  /// The frontend's verdicts on one frame's cam0 tracks (FeatureFrame labels).
+  struct FrontendVerdicts {
+    std::unordered_set<std::uint64_t> inconsistent;  ///< labelled inconsistent
+    int checked = 0;                                 ///< labelled consistent or inconsistent
+  };
+
   MotionConflictMonitor(const conflict::ConflictOptions& options, const conflict::RigGeometry& rig,
                         const ImuNoiseParams& imu_noise, const Eigen::Vector3d& gravity, double min_depth_m,
                         double max_depth_m);
 
-  /// Tests frame k (time t, its observations, tracks the frontend labelled inconsistent).
+  /// Tests frame k (time t, its observations, the frontend's verdicts on its tracks).
   Decision process(Timestamp t, const ObservationMap& cam0, const ObservationMap& cam1,
-                   const std::unordered_set<std::uint64_t>& frontend_inconsistent, const ImuBuffer& imu);
+                   const FrontendVerdicts& frontend, const ImuBuffer& imu);
   /// Stores frame k with its solved state (call after the solve, also in reference mode).
   void commit(const State& solved, ConflictReport* report);
   /// Forgets everything (after an estimator reset).
