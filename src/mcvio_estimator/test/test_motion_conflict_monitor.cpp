@@ -461,8 +461,8 @@ Scenario laptopScene() {
 }  // namespace
 
 // The landmark detector cannot test tracks without stereo, and 6 static points are too few for
-// any other test: only the frontend's labels see the laptop. When it leaves, the revealed tracks are too new
-// for the landmark detector's horizon, but the frontend checks them at once.
+// any other test: only the frontend's labels see the laptop. When it leaves, the revealed tracks
+// are too new for the landmark detector's horizon, but the frontend checks them at once.
 TEST(MotionConflictMonitor, FrontendLabelsDetectAnOccluderWithoutStereo) {
   const conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
   const auto frames = run(laptopScene(), o, kLaptopFrames);
