@@ -286,6 +286,8 @@ mcvio_msgs::msg::dds_::MotionConflict_ toMotionConflictMsg(const estimator::Esti
   msg.interval_onset(makeHeader(c.interval_onset, "").stamp());
   msg.interval_end(makeHeader(c.interval_end, "").stamp());
   msg.resolution_mode(c.resolution_mode);
+  msg.frontend_checked(static_cast<std::uint32_t>(std::max(0, c.frontend_checked)));
+  msg.frontend_inconsistent(static_cast<std::uint32_t>(std::max(0, c.frontend_inconsistent)));
   return msg;
 }
 

@@ -206,6 +206,8 @@ TEST(RosConversions, MotionConflictCarriesEveryField) {
   c.interval_onset = 1403715271250000000;
   c.interval_end = 1403715275000000002;
   c.resolution_mode = "selective";
+  c.frontend_checked = 180;
+  c.frontend_inconsistent = 140;
   const auto msg = toMotionConflictMsg(e, "world");
   EXPECT_EQ(stampOf(msg.header()), e.t);
   EXPECT_EQ(msg.state(), 2u);
@@ -222,6 +224,8 @@ TEST(RosConversions, MotionConflictCarriesEveryField) {
   EXPECT_EQ(msg.interval_end().sec(), 1403715275);
   EXPECT_EQ(msg.interval_end().nanosec(), 2u);
   EXPECT_EQ(msg.resolution_mode(), "selective");
+  EXPECT_EQ(msg.frontend_checked(), 180u);
+  EXPECT_EQ(msg.frontend_inconsistent(), 140u);
   e.conflict = {};
   const auto none = toMotionConflictMsg(e, "world");
   EXPECT_EQ(none.state(), 0u);

@@ -285,6 +285,8 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     }
   }
   // The frontend detector (ConflictOptions::frontend_evidence) also sees tracks without stereo.
+  d.report.frontend_checked = frontend.checked;
+  d.report.frontend_inconsistent = static_cast<int>(frontend.inconsistent.size());
   if (options_.frontend_evidence && !imu_dominated_ && frontend.checked >= options_.min_landmarks_tested) {
     tested = true;
     const double labelled = static_cast<double>(frontend.inconsistent.size());

@@ -468,6 +468,8 @@ TEST(MotionConflictMonitor, FrontendLabelsDetectAnOccluderWithoutStereo) {
   const auto frames = run(laptopScene(), o, kLaptopFrames);
   for (int k = 0; k < kLaptopFrame; ++k) EXPECT_FALSE(inConflict(frames[k])) << "frame " << k;
   EXPECT_LT(frames[kLaptopFrame + 5].decision.report.landmarks_tested, o.min_landmarks_tested);
+  EXPECT_EQ(frames[kLaptopFrame + 5].decision.report.frontend_inconsistent, 60);
+  EXPECT_EQ(frames[kLaptopFrame + 5].decision.report.frontend_checked, 66);
   const int entry = firstFrame(frames, inConflict);
   ASSERT_GE(entry, kLaptopFrame);
   EXPECT_LE(entry, kLaptopFrame + o.enter_frames - 1);

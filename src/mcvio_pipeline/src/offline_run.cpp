@@ -204,7 +204,8 @@ class RunRecorder {
     if (!secondary_) throw InputError("cannot write " + options.output_dir + "/secondary.tum");
     tum_ << "# t x y z qx qy qz qw  (pose of imu0 in world; t in seconds)\n" << std::setprecision(9) << std::fixed;
     conflict_ << "timestamp_ns,state,propagated_chi2,propagated_threshold,landmarks_tested,landmarks_inconsistent,"
-                 "inconsistent_fraction,coherence,interval_start_ns,resolution_mode,interval_onset_ns,interval_end_ns\n";
+                 "inconsistent_fraction,coherence,interval_start_ns,resolution_mode,interval_onset_ns,interval_end_ns,"
+                 "frontend_checked,frontend_inconsistent\n";
     secondary_ << "# t x y z qx qy qz qw  (the conflicting frame S in world, identity at the interval start; t in seconds)\n"
                << std::setprecision(9) << std::fixed;
   }
@@ -249,7 +250,8 @@ class RunRecorder {
         conflict_ << e.t << ',' << estimator::toString(c.state) << ',' << c.propagated_chi2 << ','
                   << c.propagated_threshold << ',' << c.landmarks_tested << ',' << c.landmarks_inconsistent << ','
                   << c.inconsistent_fraction << ',' << c.coherence << ',' << c.interval_start << ','
-                  << c.resolution_mode << ',' << c.interval_onset << ',' << c.interval_end << '\n';
+                  << c.resolution_mode << ',' << c.interval_onset << ',' << c.interval_end << ','
+                  << c.frontend_checked << ',' << c.frontend_inconsistent << '\n';
         conflict_frames += c.state == estimator::ConflictReport::State::kConflict ? 1 : 0;
         if (c.secondary_valid) {
           writeSeconds(secondary_, e.t);

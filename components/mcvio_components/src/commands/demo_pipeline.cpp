@@ -349,12 +349,14 @@ void DemoPipeline::runOverDds(const Sequence& s, SequenceResult& r) const {
     for (const auto& o : odometry) writePose(tum, o);
   }
   csv << "timestamp_ns,state,propagated_chi2,propagated_threshold,landmarks_tested,landmarks_inconsistent,"
-         "inconsistent_fraction,coherence,interval_start_ns,resolution_mode,interval_onset_ns,interval_end_ns\n";
+         "inconsistent_fraction,coherence,interval_start_ns,resolution_mode,interval_onset_ns,interval_end_ns,"
+         "frontend_checked,frontend_inconsistent\n";
   for (const auto& c : conflicts) {
     csv << components::stampOf(c.header()) << ',' << stateName(c.state()) << ',' << c.propagated_chi2() << ','
         << c.propagated_threshold() << ',' << c.landmarks_tested() << ',' << c.landmarks_inconsistent() << ','
         << c.inconsistent_fraction() << ',' << c.coherence() << ',' << nanosOf(c.interval_start()) << ','
-        << c.resolution_mode() << ',' << nanosOf(c.interval_onset()) << ',' << nanosOf(c.interval_end()) << '\n';
+        << c.resolution_mode() << ',' << nanosOf(c.interval_onset()) << ',' << nanosOf(c.interval_end()) << ','
+        << c.frontend_checked() << ',' << c.frontend_inconsistent() << '\n';
   }
   sec << "# t x y z qx qy qz qw  (the conflicting frame S in world, identity at the interval start; t in seconds)\n"
       << std::setprecision(9) << std::fixed;

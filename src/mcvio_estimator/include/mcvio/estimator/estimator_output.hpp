@@ -49,6 +49,8 @@ struct ConflictReport {
   Timestamp interval_onset = 0;
   Timestamp interval_end = 0;
   std::string resolution_mode = "reference";  ///< the mode that acted on this frame
+  int frontend_checked = 0;       ///< frontend detector: cam0 tracks the frontend labelled,
+  int frontend_inconsistent = 0;  ///< and those it labelled inconsistent
   /// The conflicting group's frame S (cabin, vehicle, carried object) in the world: identity at
   /// the interval start, then its rigid motion; valid only while a coherent group is tracked.
   bool secondary_valid = false;
