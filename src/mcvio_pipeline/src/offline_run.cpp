@@ -29,6 +29,12 @@
 #include "mcvio/rosmsg/cdr_codec.hpp"
 
 namespace mcvio::pipeline {
+
+const char* const kConflictCsvHeader =
+    "timestamp_ns,state,propagated_chi2,propagated_threshold,landmarks_tested,landmarks_inconsistent,"
+    "inconsistent_fraction,coherence,interval_start_ns,resolution_mode,interval_onset_ns,interval_end_ns,"
+    "frontend_checked,frontend_inconsistent\n";
+
 namespace {
 
 struct StageStats {
@@ -203,9 +209,7 @@ class RunRecorder {
     if (!conflict_) throw InputError("cannot write " + options.output_dir + "/conflict.csv");
     if (!secondary_) throw InputError("cannot write " + options.output_dir + "/secondary.tum");
     tum_ << "# t x y z qx qy qz qw  (pose of imu0 in world; t in seconds)\n" << std::setprecision(9) << std::fixed;
-    conflict_ << "timestamp_ns,state,propagated_chi2,propagated_threshold,landmarks_tested,landmarks_inconsistent,"
-                 "inconsistent_fraction,coherence,interval_start_ns,resolution_mode,interval_onset_ns,interval_end_ns,"
-                 "frontend_checked,frontend_inconsistent\n";
+    conflict_ << kConflictCsvHeader;
     secondary_ << "# t x y z qx qy qz qw  (the conflicting frame S in world, identity at the interval start; t in seconds)\n"
                << std::setprecision(9) << std::fixed;
   }

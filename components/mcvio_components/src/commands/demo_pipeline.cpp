@@ -348,9 +348,7 @@ void DemoPipeline::runOverDds(const Sequence& s, SequenceResult& r) const {
               << odometry.size() << "; trajectory.tum is the per-frame odometry\n";
     for (const auto& o : odometry) writePose(tum, o);
   }
-  csv << "timestamp_ns,state,propagated_chi2,propagated_threshold,landmarks_tested,landmarks_inconsistent,"
-         "inconsistent_fraction,coherence,interval_start_ns,resolution_mode,interval_onset_ns,interval_end_ns,"
-         "frontend_checked,frontend_inconsistent\n";
+  csv << pipeline::kConflictCsvHeader;
   for (const auto& c : conflicts) {
     csv << components::stampOf(c.header()) << ',' << stateName(c.state()) << ',' << c.propagated_chi2() << ','
         << c.propagated_threshold() << ',' << c.landmarks_tested() << ',' << c.landmarks_inconsistent() << ','

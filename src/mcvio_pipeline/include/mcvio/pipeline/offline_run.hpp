@@ -64,4 +64,7 @@ OfflineRunSummary runOffline(const OfflineRunOptions& options);
 /// and options.calibration_dir is not used.
 OfflineRunSummary runOffline(const OfflineInput& input, const OfflineRunOptions& options);
 
+/// Header line (with its newline) of OUT/conflict.csv; `mcvio demo` writes the same columns.
+extern const char* const kConflictCsvHeader;
+
 }  // namespace mcvio::pipeline
