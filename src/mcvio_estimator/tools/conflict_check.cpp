@@ -2,6 +2,7 @@
 // a resolution mode; prints ATE (pos+yaw), ATE inside labelled conflict, per-frame detection
 // TPR/FPR, the elevator's vertical displacement, and optionally a per-frame CSV.
 //   [MCVIO_ESTIMATOR_CONFIG=options.yaml] conflict_check SCENARIO MODE [duration_s] [seed] [csv|-] [onset_s] [conflict_s]
+//   [travel_m]   (travel as `mcvio bench`'s duration sweep sets it: 0.8 m/s x conflict_s elevator, 4 m/s vehicle)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -47,7 +48,7 @@ Align align4(const std::vector<Eigen::Vector3d>& est, const std::vector<Eigen::V
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: conflict_check SCENARIO MODE [duration_s] [seed] [csv] [onset] [conflict_s]\n");
+    std::fprintf(stderr, "usage: conflict_check SCENARIO MODE [duration_s] [seed] [csv] [onset] [conflict_s] [travel_m]\n");
     return 2;
   }
   sim::SimulatorOptions so;
@@ -56,6 +57,7 @@ int main(int argc, char** argv) {
   so.seed = argc > 4 ? std::atoi(argv[4]) : 1;
   if (argc > 6) so.scenario.onset_s = std::atof(argv[6]);
   if (argc > 7) so.scenario.duration_s = std::atof(argv[7]);
+  if (argc > 8) so.scenario.travel_m = std::atof(argv[8]);
   sim::FeatureSimulatorOptions fo;
   auto seq = sim::simulateFeatureSequence(so, fo);
   // As `mcvio bench` runs it (no oracle frontend): MCVIO_CLEAR_TRACK_LABELS=1.
@@ -74,7 +76,7 @@ int main(int argc, char** argv) {
   estimator::SlidingWindowEstimator est(eo, seq.calibration);
   std::ofstream csv;
   if (argc > 5 && std::string(argv[5]) != "-") csv.open(argv[5]);
-  if (csv) csv << "t,state,chi2,tested,inconsistent,fraction,coherence,label,px,py,pz,gx,gy,gz,sec_valid,sz\n";
+  if (csv) csv << "t,state,chi2,tested,inconsistent,fraction,coherence,label,px,py,pz,gx,gy,gz,sec_valid,sz,bax,bay,baz,vx,vy,vz,drift\n";
   std::size_t k = 0, g = 0, li = 0;
   std::vector<Eigen::Vector3d> pe, pg;
   std::vector<Timestamp> pt;
@@ -132,7 +134,9 @@ int main(int argc, char** argv) {
           << out.conflict.inconsistent_fraction << ',' << out.conflict.coherence << ',' << int(label) << ','
           << out.p_WB.x() << ',' << out.p_WB.y() << ',' << out.p_WB.z() << ',' << seq.ground_truth[g].p_WB.x() << ','
           << seq.ground_truth[g].p_WB.y() << ',' << seq.ground_truth[g].p_WB.z() << ','
-          << int(out.conflict.secondary_valid) << ',' << out.conflict.p_WS.z() << '\n';
+          << int(out.conflict.secondary_valid) << ',' << out.conflict.p_WS.z() << ',' << out.bias.accel.x() << ','
+          << out.bias.accel.y() << ',' << out.bias.accel.z() << ',' << out.v_WB.x() << ',' << out.v_WB.y() << ','
+          << out.v_WB.z() << ',' << out.conflict.accel_bias_drift << '\n';
   }
   const auto a = align4(pe, pg);
   double sq = 0, sqc = 0;
