@@ -70,6 +70,9 @@ void ConflictOptions::validate() const {
           "must be in [0, 400]", bias_reference_lag_frames);
   require(bias_reference_max_change_sigmas > 0, "bias_reference_max_change_sigmas", "must be > 0",
           bias_reference_max_change_sigmas);
+  require(bias_drift_sigmas >= 0, "bias_drift_sigmas", "must be >= 0 (0: off)", bias_drift_sigmas);
+  require(bias_drift_arm_frames >= 0, "bias_drift_arm_frames", "must be >= 0", bias_drift_arm_frames);
+  require(bias_drift_min_frames >= 1, "bias_drift_min_frames", "must be >= 1", bias_drift_min_frames);
   require(enter_frames >= 1, "enter_frames", "must be >= 1", enter_frames);
   require(exit_frames >= 1, "exit_frames", "must be >= 1", exit_frames);
   require(onset_min_score > 0 && onset_min_score <= 1, "onset_min_score", "must be in (0, 1]", onset_min_score);
@@ -139,6 +142,9 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("warmup_frames", &o.warmup_frames);
   read("bias_reference_lag_frames", &o.bias_reference_lag_frames);
   read("bias_reference_max_change_sigmas", &o.bias_reference_max_change_sigmas);
+  read("bias_drift_sigmas", &o.bias_drift_sigmas);
+  read("bias_drift_arm_frames", &o.bias_drift_arm_frames);
+  read("bias_drift_min_frames", &o.bias_drift_min_frames);
   read("enter_frames", &o.enter_frames);
   read("exit_frames", &o.exit_frames);
   read("onset_min_score", &o.onset_min_score);

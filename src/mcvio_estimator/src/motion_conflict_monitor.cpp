@@ -57,6 +57,8 @@ void MotionConflictMonitor::reset() {
   history_.clear();
   have_pending_ = false;
   imu_dominated_ = false;
+  drift_opened_ = false;
+  drift_frames_ = 0;
   have_reference_bias_ = false;
   frames_since_reset_ = 0;
   frames_since_imu_exit_ = -1;
@@ -233,7 +235,8 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   if (!history_.empty() && can_go_imu) solveVisionIncrement(history_.back(), imu, &pending_);
 
   const int H = options_.horizon_frames;
-  bool evidence = false, whole = false, rotation_agrees = false, tested = false;
+  bool evidence = false, whole = false, rotation_agrees = false, tested = false, drift_fired = false;
+  bool group_seen = false;  // a partial conflict: a moving group next to static landmarks
   double score = 0;  // evidence strength: the statistics relative to their thresholds
   int static_count = 0;
   std::vector<conflict::LandmarkConflictDetector::Verdict> verdicts;
@@ -280,6 +283,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
       const bool partial = lm.tested >= options_.min_landmarks_tested && lm.inconsistent >= options_.partial_min_count &&
                            lm.fraction >= options_.partial_min_fraction && lm.coherence >= options_.min_coherence;
       if (lm.tested >= options_.min_landmarks_tested && lm.fraction >= options_.whole_view_fraction) whole = true;
+      group_seen = partial;
       evidence = (whole || partial) && frames_since_reset_ >= options_.warmup_frames;
       verdicts = lm.verdicts;
     }
@@ -292,9 +296,33 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     const double labelled = static_cast<double>(frontend.inconsistent.size());
     const double fraction = labelled / static_cast<double>(frontend.checked);
     score = std::max(score, std::min(labelled / options_.frontend_min_count, fraction / options_.frontend_min_fraction));
+    if (labelled >= options_.frontend_min_count && fraction >= options_.frontend_min_fraction) group_seen = true;
     if (labelled >= options_.frontend_min_count && fraction >= options_.frontend_min_fraction &&
         frames_since_reset_ >= options_.warmup_frames)
       evidence = true;
+  }
+  // Bias-drift detector (ConflictOptions::bias_drift_sigmas): the estimator bending its
+  // accelerometer bias to explain an acceleration vision does not see. Inside an IMU-dominated
+  // interval the biases are held, and after a reset the reference is not settled yet.
+  // A moving group next to static landmarks bends the estimate, not only the bias: the other
+  // detectors' case.
+  if (options_.bias_drift_sigmas > 0 && !imu_dominated_ && !group_seen && have_reference_bias_ && !history_.empty() &&
+      frames_since_reset_ >= std::max(options_.warmup_frames, options_.bias_drift_arm_frames)) {
+    const double drift = (history_.back().state.bias.accel - reference_bias_.accel).norm();
+    const double limit = options_.bias_drift_sigmas * options_.accel_bias_sigma;
+    d.report.accel_bias_drift = drift;
+    tested = true;
+    // Only a drift over the limit scores: below it the estimate's noise sits at a third to a half
+    // of the limit, and would backdate every interval's onset the whole lookback.
+    if (drift >= limit) score = std::max(score, drift / limit);
+    drift_frames_ = drift >= limit ? drift_frames_ + 1 : 0;
+    drift_fired = drift_frames_ >= options_.bias_drift_min_frames;
+    if (drift_fired) {
+      whole = true;
+      evidence = true;
+    }
+  } else {
+    drift_frames_ = 0;
   }
   // Tracks already found moving and still in view keep a partial conflict open: selective
   // elimination has taken them out of the test above, so without this the interval would close
@@ -305,6 +333,22 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     if (moving_in_view >= options_.hold_moving_min_count &&
         moving_in_view >= options_.hold_moving_min_fraction * static_cast<double>(cam0.size()))
       evidence = true;
+  }
+  // The interval the bias-drift detector opened goes on while the conflicting frame accelerates
+  // as fast as the drift limit: the horizon's tests miss a gentle ride as they did before.
+  // Until that acceleration can be measured over bias_reference_lag_frames, the drift that opened
+  // the interval stands.
+  // Once the frame is fast enough for the speed hold below, that hold takes over.
+  if (options_.bias_drift_sigmas > 0 && imu_dominated_ && drift_opened_ && !speed_hold_engaged_) {
+    const std::size_t lag = static_cast<std::size_t>(std::max(1, options_.bias_reference_lag_frames));
+    if (secondary_.valid() && history_.size() >= lag && history_[history_.size() - lag].secondary_valid) {
+      const Entry& then = history_[history_.size() - lag];
+      const double span = toSeconds(t - then.t);
+      const double accel = span > 0 ? (secondary_.v_WS() - then.v_WS).norm() / span : 0.0;
+      if (accel >= options_.bias_drift_sigmas * options_.accel_bias_sigma) evidence = true;
+    } else {
+      evidence = true;
+    }
   }
   // A conflicting frame still moving keeps its interval open (see hold_min_secondary_speed_mps).
   // Speed along the direction of the peak: the IMU-only estimate drifts sideways over a long ride.
@@ -317,8 +361,10 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     const double along = peak > 0 ? v.dot(peak_secondary_velocity_) / peak : 0.0;
     if (evidence) evidence_secondary_speed_ = std::max(evidence_secondary_speed_, along);
     if (along >= options_.hold_min_secondary_speed_mps && along >= options_.hold_secondary_speed_fraction * peak &&
-        along <= options_.hold_max_speed_gain * evidence_secondary_speed_)
+        along <= options_.hold_max_speed_gain * evidence_secondary_speed_) {
       evidence = true;
+      speed_hold_engaged_ = true;
+    }
   }
   pending_.evidence = evidence;
 
@@ -362,6 +408,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
       }
     }
     imu_dominated_ = false;
+    drift_opened_ = false;
     smoother_.markExit();
     secondary_.end();
     classifier_.clear();
@@ -386,6 +433,8 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
                             static_count < options_.auto_min_static_landmarks));
     if (want_imu) {
       imu_dominated_ = true;
+      drift_opened_ = drift_fired;
+      speed_hold_engaged_ = false;
       peak_secondary_velocity_.setZero();
       evidence_secondary_speed_ = 0;
       // The state before the evidence run: the reference frame of its first frame.
@@ -482,6 +531,8 @@ void MotionConflictMonitor::commit(const State& solved, ConflictReport* report) 
     report->q_WS = Eigen::Quaterniond(secondary_.T_WS().linear());
     report->v_WS = secondary_.v_WS();
   }
+  pending_.secondary_valid = secondary_.valid();
+  if (pending_.secondary_valid) pending_.v_WS = secondary_.v_WS();
   if (smoother_.active()) smoother_.addFrame(pending_.t, solved.q);
   history_.push_back(std::move(pending_));
   have_pending_ = false;

@@ -525,6 +525,82 @@ TEST(MotionConflictMonitor, HeldBiasComesFromASettledEstimateNotATransient) {
   EXPECT_LT((d.rewind_state.v - sc.traj.velocity(frameSeconds(entry))).norm(), 1e-3);
 }
 
+TEST(MotionConflictMonitor, AnAccelerometerBiasBentPastItsLimitIsEvidence) {
+  // A static world that vision and the IMU agree on, but the committed accelerometer bias (what the
+  // estimator would report while it explains a gentle cabin acceleration away) ramps by 0.0045
+  // m/s^2 per frame from kRampFrame. The reference bias freezes at the pre-ramp value (the ramp
+  // moves more than 5 sigma per lag), so the drift, the last committed bias against it, passes
+  // 3 x 0.02 m/s^2 in the report of frame kRampFrame + 15 (0.063) and is evidence from the
+  // bias_drift_min_frames-th such frame on.
+  constexpr int kRampFrame = 230;  // after the detector arms (bias_drift_arm_frames 200)
+  auto ramp = [](int start, double plateau) {
+    return [start, plateau](int k) {
+      ImuBias b;
+      b.accel.z() = std::clamp(0.0045 * (k - start), 0.0, plateau);
+      return b;
+    };
+  };
+  Scenario sc;
+  sc.points = staticPoints(80, 0, 11);
+  sc.committed_bias = ramp(kRampFrame, 1.0);
+  const conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
+  ASSERT_DOUBLE_EQ(o.bias_drift_sigmas, 3.0);
+  const int total = kRampFrame + 60;
+  const auto frames = run(sc, o, total);
+  for (int k = 0; k < kRampFrame; ++k)
+    ASSERT_EQ(frames[k].decision.report.state, ConflictReport::State::kNone) << "frame " << k;
+  const int first_evidence = kRampFrame + 15 + o.bias_drift_min_frames - 1;
+  const int opened = firstFrame(frames, inConflict);
+  ASSERT_GE(opened, first_evidence);
+  EXPECT_LE(opened, first_evidence + o.enter_frames);
+  EXPECT_GE(frames[opened].decision.report.accel_bias_drift, 0.06);
+  EXPECT_NEAR(frames[kRampFrame + 10].decision.report.accel_bias_drift, 0.0405, 1e-9);
+
+  // Nothing without the detector: the IMU prediction uses the reference bias, which is right.
+  conflict::ConflictOptions off = o;
+  off.bias_drift_sigmas = 0;
+  for (const auto& f : run(sc, off, total)) EXPECT_FALSE(inConflict(f));
+  // Nothing for a bend within the limit, one over it for too few frames, nor before the arming.
+  sc.committed_bias = ramp(kRampFrame, 0.05);
+  for (const auto& f : run(sc, o, total)) EXPECT_FALSE(inConflict(f));
+  sc.committed_bias = [&](int k) {
+    ImuBias b;
+    b.accel.z() = k >= kRampFrame && k < kRampFrame + o.bias_drift_min_frames - 1 ? 0.08 : 0.0;
+    return b;
+  };
+  for (const auto& f : run(sc, o, total)) EXPECT_FALSE(inConflict(f));
+  sc.committed_bias = ramp(100, 1.0);
+  const auto early = run(sc, o, 200);
+  for (const auto& f : early) EXPECT_FALSE(inConflict(f));
+}
+
+TEST(MotionConflictMonitor, ABiasBendWithAMovingGroupInViewIsLeftToTheOtherDetectors) {
+  // The same bend while the frontend labels a group of tracks inconsistent (a pedestrian whose pull
+  // bends the whole estimate): the drift is not reported, the frontend detector opens a partial
+  // (selective) interval instead of an IMU-dominated one.
+  constexpr int kRampFrame = 230;
+  Scenario sc;
+  sc.points = staticPoints(80, 0, 11);
+  auto group = pedestrian(20, 1000, Eigen::Vector3d(12, 0.5, 0), 5);
+  for (auto& p : group) {
+    p.appear_s = frameSeconds(kRampFrame);
+    p.frontend_inconsistent = true;
+  }
+  sc.points.insert(sc.points.end(), group.begin(), group.end());
+  sc.frontend_labels = true;
+  sc.committed_bias = [](int k) {
+    ImuBias b;
+    b.accel.z() = std::clamp(0.0045 * (k - kRampFrame), 0.0, 1.0);
+    return b;
+  };
+  const auto frames = run(sc, withMode(conflict::ResolutionMode::kAuto), kRampFrame + 60);
+  for (int k = kRampFrame; k < kRampFrame + 60; ++k) {
+    EXPECT_EQ(frames[k].decision.report.accel_bias_drift, 0.0) << "frame " << k;
+    EXPECT_FALSE(frames[k].decision.imu_dominated) << "frame " << k;
+  }
+  EXPECT_GE(firstFrame(frames, inConflict), kRampFrame);
+}
+
 TEST(MotionConflictMonitor, ACabinCruisingAtSteadySpeedKeepsItsIntervalOpen) {
   // A 1 s pulse of 3 m/s^2 peak, then the cabin cruises at 1.5 m/s: no acceleration left for the
   // detectors, but the secondary motion (the cabin in the world) still moves.

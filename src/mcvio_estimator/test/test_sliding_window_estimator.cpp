@@ -299,6 +299,9 @@ TEST(EstimatorOptions, LoadsFromYamlAndNamesBadKeys) {
   expectError("conflict:\n  frontend_min_count: 2\n", "frontend_min_count");
   expectError("conflict:\n  frontend_min_fraction: 1.5\n", "frontend_min_fraction");
   expectError("conflict:\n  frontend_evidence: maybe\n", "frontend_evidence");
+  expectError("conflict:\n  bias_drift_sigmas: -1\n", "bias_drift_sigmas");
+  expectError("conflict:\n  bias_drift_arm_frames: -5\n", "bias_drift_arm_frames");
+  expectError("conflict:\n  bias_drift_min_frames: 0\n", "bias_drift_min_frames");
 
   const std::string path = ::testing::TempDir() + "/estimator_options_test.yaml";
   std::ofstream(path) << "estimator:\n  keyframe_window_size: 3\n";
@@ -343,7 +346,10 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_EQ(c.frontend_evidence, dc.frontend_evidence);
   EXPECT_EQ(c.frontend_min_count, dc.frontend_min_count);
   EXPECT_DOUBLE_EQ(c.frontend_min_fraction, dc.frontend_min_fraction);
-  EXPECT_EQ(root["conflict"].size(), 48u) << "every conflict option appears once";
+  EXPECT_DOUBLE_EQ(c.bias_drift_sigmas, dc.bias_drift_sigmas);
+  EXPECT_EQ(c.bias_drift_arm_frames, dc.bias_drift_arm_frames);
+  EXPECT_EQ(c.bias_drift_min_frames, dc.bias_drift_min_frames);
+  EXPECT_EQ(root["conflict"].size(), 51u) << "every conflict option appears once";
 }
 
 }  // namespace

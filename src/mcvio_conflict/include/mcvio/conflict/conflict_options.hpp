@@ -84,6 +84,19 @@ struct ConflictOptions {
   /// (the first seconds of motion on a real IMU) would otherwise be frozen into the reference at
   /// the next interval and keep it open.
   double bias_reference_max_change_sigmas = 5.0;
+  /// Bias-drift detector: a cabin easing into a long ride accelerates too gently for the horizon's
+  /// tests, and the estimator explains the acceleration vision does not see by bending its
+  /// accelerometer bias. The newest estimate moving this many accel_bias_sigma away from the
+  /// reference bias (above) is evidence of a whole-view conflict. 0 turns it off. Inside the
+  /// IMU-dominated interval it opens, the conflicting frame accelerating at least as fast
+  /// (its velocity changing by that much per second over bias_reference_lag_frames) keeps it open.
+  double bias_drift_sigmas = 3.0;
+  /// Frames after (re)initialisation before the bias-drift detector arms: the first estimates of
+  /// a moving start still converge by more than its limit.
+  int bias_drift_arm_frames = 200;
+  /// Consecutive frames over the limit before the drift is evidence. A ride the horizon's tests
+  /// can see has opened its interval by then; a slow object's pull bends the bias for a moment.
+  int bias_drift_min_frames = 20;
   int enter_frames = 2;                ///< consecutive frames with evidence to open an interval
   int exit_frames = 5;                 ///< consecutive clean frames to close it (0.25 s at 20 Hz)
   /// In hindsight an interval starts where its evidence began to build up: back from the first

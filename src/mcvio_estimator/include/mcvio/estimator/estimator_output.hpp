@@ -51,6 +51,8 @@ struct ConflictReport {
   std::string resolution_mode = "reference";  ///< the mode that acted on this frame
   int frontend_checked = 0;       ///< frontend detector: cam0 tracks the frontend labelled,
   int frontend_inconsistent = 0;  ///< and those it labelled inconsistent
+  /// Bias-drift detector: newest accelerometer bias minus the reference bias [m/s^2]; 0 untested.
+  double accel_bias_drift = 0;
   /// The conflicting group's frame S (cabin, vehicle, carried object) in the world: identity at
   /// the interval start, then its rigid motion; valid only while a coherent group is tracked.
   bool secondary_valid = false;

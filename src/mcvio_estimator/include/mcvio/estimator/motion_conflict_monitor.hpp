@@ -111,6 +111,8 @@ class MotionConflictMonitor {
     Eigen::Isometry3d vision_increment = Eigen::Isometry3d::Identity();  ///< body k -> body k-1, vision only
     bool vision_increment_valid = false;
     Eigen::Matrix3d vision_rotation_covariance = Eigen::Matrix3d::Identity();
+    bool secondary_valid = false;  ///< the conflicting frame's velocity at this frame
+    Eigen::Vector3d v_WS = Eigen::Vector3d::Zero();
   };
 
   bool triangulate(const Eigen::Vector2d& n0, const Eigen::Vector2d& n1, double* depth) const;
@@ -147,6 +149,9 @@ class MotionConflictMonitor {
   Entry pending_;            ///< frame k between process() and commit()
   bool have_pending_ = false;
   bool imu_dominated_ = false;
+  bool drift_opened_ = false;  ///< the bias-drift detector opened the IMU-dominated interval
+  bool speed_hold_engaged_ = false;  ///< the secondary speed has held the interval open
+  int drift_frames_ = 0;             ///< consecutive frames with the bias drift over its limit
   ConflictIntervalSmoother smoother_;
   double evidence_secondary_speed_ = 0;  ///< fastest along the peak while the detectors had evidence
   Eigen::Vector3d peak_secondary_velocity_ = Eigen::Vector3d::Zero();  ///< fastest in this IMU-dominated interval
