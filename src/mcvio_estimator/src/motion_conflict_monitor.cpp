@@ -302,10 +302,9 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
       evidence = true;
   }
   // Bias-drift detector (ConflictOptions::bias_drift_sigmas): the estimator bending its
-  // accelerometer bias to explain an acceleration vision does not see. Inside an IMU-dominated
-  // interval the biases are held, and after a reset the reference is not settled yet.
-  // A moving group next to static landmarks bends the estimate, not only the bias: the other
-  // detectors' case.
+  // accelerometer bias to explain an acceleration vision does not see. Not inside an IMU-dominated
+  // interval (the biases are held), nor before it arms (a moving start still converges), nor
+  // beside a moving group (its pull bends the estimate too: the other detectors' case).
   if (options_.bias_drift_sigmas > 0 && !imu_dominated_ && !group_seen && have_reference_bias_ && !history_.empty() &&
       frames_since_reset_ >= std::max(options_.warmup_frames, options_.bias_drift_arm_frames)) {
     const double drift = (history_.back().state.bias.accel - reference_bias_.accel).norm();
@@ -335,10 +334,9 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
       evidence = true;
   }
   // The interval the bias-drift detector opened goes on while the conflicting frame accelerates
-  // as fast as the drift limit: the horizon's tests miss a gentle ride as they did before.
-  // Until that acceleration can be measured over bias_reference_lag_frames, the drift that opened
-  // the interval stands.
-  // Once the frame is fast enough for the speed hold below, that hold takes over.
+  // as fast as the drift limit (the horizon's tests miss a gentle ride as they did before), until
+  // the frame is fast enough for the speed hold below. Until that acceleration can be measured
+  // over bias_reference_lag_frames, the drift that opened the interval stands.
   if (options_.bias_drift_sigmas > 0 && imu_dominated_ && drift_opened_ && !speed_hold_engaged_) {
     const std::size_t lag = static_cast<std::size_t>(std::max(1, options_.bias_reference_lag_frames));
     if (secondary_.valid() && history_.size() >= lag && history_[history_.size() - lag].secondary_valid) {
