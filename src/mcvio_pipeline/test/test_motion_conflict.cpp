@@ -132,12 +132,13 @@ TEST(MotionConflict, ElevatorRideImuDominatedCutsTheError) {
   EXPECT_LT(aut.max_position_sigma, 30.0);
 }
 
-// A 16 m ride over 20 s (mcvio bench's duration sweep): the cabin eases in at under 0.1 m/s^2 for
-// its first two seconds, the horizon's tests stay quiet, and the estimator bends its accelerometer
-// bias instead (0.25 m/s^2 within 4 s). Found late, the ride was resolved with a bias already bent,
-// and the inertial estimate ran away: the bias-drift detector finds it while the bias still bends.
+// A 24 m ride over 30 s (mcvio bench's duration sweep): the cabin eases in at under 0.05 m/s^2 for
+// its first 1.3 s and peaks at 0.17 m/s^2, the horizon's tests stay quiet, and the estimator bends
+// its accelerometer bias instead. Found mid-ride, the ride was missed; the bias-drift detector
+// finds it 2-3 s in, and its acceleration hold keeps the interval open until the cabin is fast
+// enough for the speed hold.
 TEST(MotionConflict, AGentleLongRideIsFoundByTheBiasDrift) {
-  auto seq = makeSequence(sim::ScenarioKind::kElevator, 55.0, 20.0, 20.0, 1, 16.0);
+  auto seq = makeSequence(sim::ScenarioKind::kElevator, 65.0, 20.0, 30.0, 1, 24.0);
   // As mcvio bench runs it: no oracle track labels (a real frontend cannot know them).
   for (auto& f : seq.frames)
     for (auto& o : f.features) o.label = TrackLabel::kUnknown;
@@ -146,12 +147,12 @@ TEST(MotionConflict, AGentleLongRideIsFoundByTheBiasDrift) {
   conflict::ConflictOptions no_drift;
   no_drift.bias_drift_sigmas = 0;
   const auto late = run(seq, conflict::ResolutionMode::kAuto, no_drift);
-  std::printf("gentle 20 s ride: ATE reference %.3f m, auto %.3f m (without the bias-drift detector %.3f m); "
+  std::printf("gentle 30 s ride: ATE reference %.3f m, auto %.3f m (without the bias-drift detector %.3f m); "
               "detected %d/%d labelled, %d false alarms\n",
               ref.ate, aut.ate, late.ate, aut.detected_labelled, aut.labelled, aut.false_alarms);
-  ASSERT_GT(aut.labelled, 350);
-  EXPECT_GT(ref.ate, 3.0);
-  EXPECT_LT(aut.ate, 0.2 * ref.ate);
+  ASSERT_GT(aut.labelled, 550);
+  EXPECT_GT(ref.ate, 5.0);
+  EXPECT_LT(aut.ate, 0.5 * ref.ate);
   EXPECT_GT(late.ate, 2.0 * aut.ate);
   EXPECT_GT(aut.detected_labelled, aut.labelled * 3 / 4);
   EXPECT_LE(aut.false_alarms, aut.frames / 50);
