@@ -134,8 +134,8 @@ TEST(MotionConflict, ElevatorRideImuDominatedCutsTheError) {
 
 // A 24 m ride over 30 s (mcvio bench's duration sweep): the cabin eases in at under 0.05 m/s^2 for
 // its first 1.3 s and peaks at 0.17 m/s^2, the horizon's tests stay quiet, and the estimator bends
-// its accelerometer bias instead. Found mid-ride, the ride was missed; the bias-drift detector
-// finds it 2-3 s in, and its acceleration hold keeps the interval open until the cabin is fast
+// its accelerometer bias instead: without the bias-drift detector the ride is missed. It finds
+// the ride about 3 s in, and its acceleration hold keeps the interval open until the cabin is fast
 // enough for the speed hold.
 TEST(MotionConflict, AGentleLongRideIsFoundByTheBiasDrift) {
   auto seq = makeSequence(sim::ScenarioKind::kElevator, 65.0, 20.0, 30.0, 1, 24.0);
