@@ -296,10 +296,9 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     const double labelled = static_cast<double>(frontend.inconsistent.size());
     const double fraction = labelled / static_cast<double>(frontend.checked);
     score = std::max(score, std::min(labelled / options_.frontend_min_count, fraction / options_.frontend_min_fraction));
-    if (labelled >= options_.frontend_min_count && fraction >= options_.frontend_min_fraction) group_seen = true;
-    if (labelled >= options_.frontend_min_count && fraction >= options_.frontend_min_fraction &&
-        frames_since_reset_ >= options_.warmup_frames)
-      evidence = true;
+    const bool labelled_group = labelled >= options_.frontend_min_count && fraction >= options_.frontend_min_fraction;
+    group_seen = group_seen || labelled_group;
+    if (labelled_group && frames_since_reset_ >= options_.warmup_frames) evidence = true;
   }
   // Bias-drift detector (ConflictOptions::bias_drift_sigmas): the estimator bending its
   // accelerometer bias to explain an acceleration vision does not see. Not inside an IMU-dominated
