@@ -209,6 +209,7 @@ TEST(RosConversions, MotionConflictCarriesEveryField) {
   c.frontend_checked = 180;
   c.frontend_inconsistent = 140;
   c.accel_bias_drift = 0.0625;
+  c.split_chi2 = 131.25;
   const auto msg = toMotionConflictMsg(e, "world");
   EXPECT_EQ(stampOf(msg.header()), e.t);
   EXPECT_EQ(msg.state(), 2u);
@@ -228,6 +229,7 @@ TEST(RosConversions, MotionConflictCarriesEveryField) {
   EXPECT_EQ(msg.frontend_checked(), 180u);
   EXPECT_EQ(msg.frontend_inconsistent(), 140u);
   EXPECT_EQ(msg.accel_bias_drift(), 0.0625);
+  EXPECT_EQ(msg.split_chi2(), 131.25);
   e.conflict = {};
   const auto none = toMotionConflictMsg(e, "world");
   EXPECT_EQ(none.state(), 0u);

@@ -49,6 +49,7 @@ MotionConflictMonitor::MotionConflictMonitor(const conflict::ConflictOptions& op
       pose_solver_(rig, solverOptions(options)),
       propagated_detector_(options.propagated_chi2_threshold),
       landmark_detector_(rig, options),
+      split_detector_(pose_solver_, options.split_chi2_threshold > 0 ? options.split_chi2_threshold : 1.0),
       tracker_(options.enter_frames, options.exit_frames, options.onset_min_score, options.onset_lookback_frames),
       classifier_(options.selective_strikes, options.probation_agreeing_tests),
       smoother_(smootherOptions(options)) {}
@@ -268,7 +269,23 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
         whole = prop.fired;
         score = std::max(score, prop.chi2 / options_.propagated_chi2_threshold);
       }
-      const auto lm = landmark_detector_.test(pts, imu_rel);
+      auto lm = landmark_detector_.test(pts, imu_rel);
+      // Region-split detector (ConflictOptions::split_chi2_threshold): two sides of the image
+      // that move differently. Their static side's motion is a sharper reference than the IMU
+      // prediction; a group it finds is a partial conflict (never whole-view: by construction
+      // the reference side agrees). Inside an IMU-dominated interval nothing here is used.
+      if (options_.split_chi2_threshold > 0 && !imu_dominated_) {
+        const auto split = split_detector_.test(still, imu_rel);
+        d.report.split_chi2 = split.chi2;
+        if (split.fired) {
+          score = std::max(score, split.chi2 / options_.split_chi2_threshold);
+          auto against_static = landmark_detector_.test(pts, split.static_motion);
+          if (against_static.inconsistent > lm.inconsistent && against_static.fraction < options_.whole_view_fraction) {
+            lm = std::move(against_static);
+            split_found_group_ = true;
+          }
+        }
+      }
       d.report.landmarks_tested = lm.tested;
       d.report.landmarks_inconsistent = lm.inconsistent;
       d.report.inconsistent_fraction = lm.fraction;
@@ -390,6 +407,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   d.report.interval_onset = tracker_.intervalOnset();
   d.report.interval_end = tracker_.intervalEnd();
 
+  if (state == conflict::ConflictIntervalTracker::State::kNone) split_found_group_ = false;
   if (tracker_.justExited() && imu_dominated_) {
     if (options_.restart_on_exit && !history_.empty()) {
       const std::size_t last = history_.size() - 1;
@@ -418,7 +436,8 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   if (tracker_.inConflict() && !imu_dominated_) {
     // Auto: a conflict that opens whole-view without a static group (a closed cabin) is
     // IMU-dominated; one that opens partial (a pedestrian) or with a clear split stays selective
-    // unless vision as a whole disagrees and too few landmarks still agree with the IMU.
+    // unless vision as a whole disagrees and too few landmarks still agree with the IMU (not once
+    // the region split found the group: see split_found_group_).
     // A clear split (a large disagreeing group next to enough landmarks that agree with the IMU,
     // e.g. a carried laptop or a vehicle's interior in front of a static street) is selective.
     const bool clear_split = d.report.inconsistent_fraction >= options_.auto_split_fraction &&
@@ -427,7 +446,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     const bool want_imu = mode == conflict::ResolutionMode::kImu ||
                           (mode == conflict::ResolutionMode::kAuto && whole && enough_tested &&
                            ((tracker_.justEntered() && !clear_split) ||
-                            static_count < options_.auto_min_static_landmarks));
+                            (static_count < options_.auto_min_static_landmarks && !split_found_group_)));
     if (want_imu) {
       imu_dominated_ = true;
       drift_opened_ = drift_fired;

@@ -300,6 +300,7 @@ TEST(EstimatorOptions, LoadsFromYamlAndNamesBadKeys) {
   expectError("conflict:\n  frontend_min_fraction: 1.5\n", "frontend_min_fraction");
   expectError("conflict:\n  frontend_evidence: maybe\n", "frontend_evidence");
   expectError("conflict:\n  bias_drift_sigmas: -1\n", "bias_drift_sigmas");
+  expectError("conflict:\n  split_chi2_threshold: -60\n", "split_chi2_threshold");
   expectError("conflict:\n  bias_drift_arm_frames: -5\n", "bias_drift_arm_frames");
   expectError("conflict:\n  bias_drift_min_frames: 0\n", "bias_drift_min_frames");
 
@@ -349,7 +350,8 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_DOUBLE_EQ(c.bias_drift_sigmas, dc.bias_drift_sigmas);
   EXPECT_EQ(c.bias_drift_arm_frames, dc.bias_drift_arm_frames);
   EXPECT_EQ(c.bias_drift_min_frames, dc.bias_drift_min_frames);
-  EXPECT_EQ(root["conflict"].size(), 51u) << "every conflict option appears once";
+  EXPECT_DOUBLE_EQ(c.split_chi2_threshold, dc.split_chi2_threshold);
+  EXPECT_EQ(root["conflict"].size(), 52u) << "every conflict option appears once";
 }
 
 }  // namespace

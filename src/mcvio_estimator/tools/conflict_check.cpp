@@ -60,6 +60,12 @@ int main(int argc, char** argv) {
   if (argc > 8) so.scenario.travel_m = std::atof(argv[8]);
   sim::FeatureSimulatorOptions fo;
   auto seq = sim::simulateFeatureSequence(so, fo);
+  // cam0 tracks on a moving body per frame (the simulator's oracle labels), for the CSV.
+  std::vector<int> moving_tracks;
+  for (const auto& f : seq.frames)
+    moving_tracks.push_back(int(std::count_if(f.features.begin(), f.features.end(), [](const FeatureObservation& o) {
+      return o.camera_index == 0 && o.label == TrackLabel::kInconsistent;
+    })));
   // As `mcvio bench` runs it (no oracle frontend): MCVIO_CLEAR_TRACK_LABELS=1.
   if (const char* clear = std::getenv("MCVIO_CLEAR_TRACK_LABELS"); clear != nullptr && std::string(clear) == "1")
     for (auto& f : seq.frames)
@@ -76,7 +82,7 @@ int main(int argc, char** argv) {
   estimator::SlidingWindowEstimator est(eo, seq.calibration);
   std::ofstream csv;
   if (argc > 5 && std::string(argv[5]) != "-") csv.open(argv[5]);
-  if (csv) csv << "t,state,chi2,tested,inconsistent,fraction,coherence,label,px,py,pz,gx,gy,gz,sec_valid,sz,bax,bay,baz,vx,vy,vz,drift\n";
+  if (csv) csv << "t,state,chi2,tested,inconsistent,fraction,coherence,label,px,py,pz,gx,gy,gz,sec_valid,sz,bax,bay,baz,vx,vy,vz,drift,moving,split\n";
   std::size_t k = 0, g = 0, li = 0;
   std::vector<Eigen::Vector3d> pe, pg;
   std::vector<Timestamp> pt;
@@ -88,7 +94,8 @@ int main(int argc, char** argv) {
   bool seen_conflict = false;
   int invalid_covariance = 0;
   double max_sigma = 0;
-  for (const auto& f : seq.frames) {
+  for (std::size_t fi = 0; fi < seq.frames.size(); ++fi) {
+    const auto& f = seq.frames[fi];
     while (k < seq.imu.size() && seq.imu[k].t <= f.t) est.addImu(seq.imu[k++]);
     const auto out = est.addFrame(f);
     while (li + 1 < seq.labels.size() && seq.labels[li].t < f.t) ++li;
@@ -136,7 +143,8 @@ int main(int argc, char** argv) {
           << seq.ground_truth[g].p_WB.y() << ',' << seq.ground_truth[g].p_WB.z() << ','
           << int(out.conflict.secondary_valid) << ',' << out.conflict.p_WS.z() << ',' << out.bias.accel.x() << ','
           << out.bias.accel.y() << ',' << out.bias.accel.z() << ',' << out.v_WB.x() << ',' << out.v_WB.y() << ','
-          << out.v_WB.z() << ',' << out.conflict.accel_bias_drift << '\n';
+          << out.v_WB.z() << ',' << out.conflict.accel_bias_drift << ',' << moving_tracks[fi] << ','
+          << out.conflict.split_chi2 << '\n';
   }
   const auto a = align4(pe, pg);
   double sq = 0, sqc = 0;

@@ -53,6 +53,9 @@ struct ConflictReport {
   int frontend_inconsistent = 0;  ///< and those it labelled inconsistent
   /// Bias-drift detector: newest accelerometer bias minus the reference bias [m/s^2]; 0 untested.
   double accel_bias_drift = 0;
+  /// Region-split detector: largest chi-square between two image sides' vision-only motions; 0
+  /// untested.
+  double split_chi2 = 0;
   /// The conflicting group's frame S (cabin, vehicle, carried object) in the world: identity at
   /// the interval start, then its rigid motion; valid only while a coherent group is tracked.
   bool secondary_valid = false;
