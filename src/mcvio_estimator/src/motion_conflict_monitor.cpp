@@ -20,6 +20,13 @@ conflict::RelativePoseSolver::Options solverOptions(const conflict::ConflictOpti
   return s;
 }
 
+conflict::RegionSplitDetector::Options splitOptions(const conflict::ConflictOptions& o) {
+  conflict::RegionSplitDetector::Options s;
+  s.chi2_threshold = o.split_chi2_threshold > 0 ? o.split_chi2_threshold : 1.0;  // 0: never called
+  s.observation_sigma_px = o.observation_sigma_px;
+  return s;
+}
+
 ConflictIntervalSmoother::Options smootherOptions(const conflict::ConflictOptions& o) {
   ConflictIntervalSmoother::Options s;
   s.settle_frames = o.smoothing_settle_frames;
@@ -49,7 +56,7 @@ MotionConflictMonitor::MotionConflictMonitor(const conflict::ConflictOptions& op
       pose_solver_(rig, solverOptions(options)),
       propagated_detector_(options.propagated_chi2_threshold),
       landmark_detector_(rig, options),
-      split_detector_(pose_solver_, options.split_chi2_threshold > 0 ? options.split_chi2_threshold : 1.0),
+      split_detector_(rig, splitOptions(options), pose_solver_),
       tracker_(options.enter_frames, options.exit_frames, options.onset_min_score, options.onset_lookback_frames),
       classifier_(options.selective_strikes, options.probation_agreeing_tests),
       smoother_(smootherOptions(options)) {}
@@ -275,7 +282,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
       // prediction; a group it finds is a partial conflict (never whole-view: by construction
       // the reference side agrees). Inside an IMU-dominated interval nothing here is used.
       if (options_.split_chi2_threshold > 0 && !imu_dominated_) {
-        const auto split = split_detector_.test(still, imu_rel);
+        const auto split = split_detector_.test(still, imu_rel, vis.valid ? vis.motion : imu_rel);
         d.report.split_chi2 = split.chi2;
         if (split.fired) {
           score = std::max(score, split.chi2 / options_.split_chi2_threshold);
