@@ -37,6 +37,13 @@ sim::FeatureSequence makeSequence(sim::ScenarioKind kind, double duration_s, dou
   return sim::simulateFeatureSequence(so, sim::FeatureSimulatorOptions{});
 }
 
+/// As mcvio bench runs the feature level: no oracle track labels (a real frontend cannot know them).
+sim::FeatureSequence withoutTrackLabels(sim::FeatureSequence seq) {
+  for (auto& f : seq.frames)
+    for (auto& o : f.features) o.label = TrackLabel::kUnknown;
+  return seq;
+}
+
 ScenarioRun run(const sim::FeatureSequence& seq, conflict::ResolutionMode mode,
                const conflict::ConflictOptions& conflict_options = conflict::ConflictOptions{}) {
   estimator::EstimatorOptions eo;
@@ -138,10 +145,7 @@ TEST(MotionConflict, ElevatorRideImuDominatedCutsTheError) {
 // the ride about 3 s in, and its acceleration hold keeps the interval open until the cabin is fast
 // enough for the speed hold.
 TEST(MotionConflict, AGentleLongRideIsFoundByTheBiasDrift) {
-  auto seq = makeSequence(sim::ScenarioKind::kElevator, 65.0, 20.0, 30.0, 1, 24.0);
-  // As mcvio bench runs it: no oracle track labels (a real frontend cannot know them).
-  for (auto& f : seq.frames)
-    for (auto& o : f.features) o.label = TrackLabel::kUnknown;
+  const auto seq = withoutTrackLabels(makeSequence(sim::ScenarioKind::kElevator, 65.0, 20.0, 30.0, 1, 24.0));
   const auto ref = run(seq, conflict::ResolutionMode::kReference);
   const auto aut = run(seq, conflict::ResolutionMode::kAuto);
   conflict::ConflictOptions no_drift;
@@ -182,10 +186,7 @@ TEST(MotionConflict, SelfOcclusionAutoCutsTheError) {
 // unnoticed for seconds (auto then went IMU-dominated late). Its static side's motion finds the
 // object's landmarks, and selective elimination keeps the rest.
 TEST(MotionConflict, ASlowObjectIsFoundByTheRegionSplit) {
-  auto seq = makeSequence(sim::ScenarioKind::kSlowObject, 40.0, 12.0, 14.0, 1);
-  // As mcvio bench runs it: no oracle track labels (a real frontend cannot know them).
-  for (auto& f : seq.frames)
-    for (auto& o : f.features) o.label = TrackLabel::kUnknown;
+  const auto seq = withoutTrackLabels(makeSequence(sim::ScenarioKind::kSlowObject, 40.0, 12.0, 14.0, 1));
   const auto ref = run(seq, conflict::ResolutionMode::kReference);
   const auto aut = run(seq, conflict::ResolutionMode::kAuto);
   conflict::ConflictOptions no_split;
