@@ -289,7 +289,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
           auto against_static = landmark_detector_.test(pts, split.static_motion);
           if (against_static.inconsistent > lm.inconsistent && against_static.fraction < options_.whole_view_fraction) {
             lm = std::move(against_static);
-            split_found_group_ = true;
+            split_group_seen_ = true;
           }
         }
       }
@@ -414,7 +414,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   d.report.interval_onset = tracker_.intervalOnset();
   d.report.interval_end = tracker_.intervalEnd();
 
-  if (state == conflict::ConflictIntervalTracker::State::kNone) split_found_group_ = false;
+  if (state == conflict::ConflictIntervalTracker::State::kNone) split_group_seen_ = false;
   if (tracker_.justExited() && imu_dominated_) {
     if (options_.restart_on_exit && !history_.empty()) {
       const std::size_t last = history_.size() - 1;
@@ -444,16 +444,20 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     // Auto: a conflict that opens whole-view without a static group (a closed cabin) is
     // IMU-dominated; one that opens partial (a pedestrian) or with a clear split stays selective
     // unless vision as a whole disagrees and too few landmarks still agree with the IMU (not once
-    // the region split found the group: see split_found_group_).
+    // the region split found the group while enough tracks in view are not found moving: see
+    // split_group_seen_).
     // A clear split (a large disagreeing group next to enough landmarks that agree with the IMU,
     // e.g. a carried laptop or a vehicle's interior in front of a static street) is selective.
     const bool clear_split = d.report.inconsistent_fraction >= options_.auto_split_fraction &&
                              static_count >= options_.auto_min_static_landmarks;
     const bool enough_tested = d.report.landmarks_tested >= options_.auto_min_tested_landmarks;
+    int unmoved_in_view = 0;
+    for (const auto& obs : cam0) unmoved_in_view += classifier_.isMoving(obs.first) ? 0 : 1;
+    const bool keep_selective = split_group_seen_ && unmoved_in_view >= options_.auto_min_static_landmarks;
     const bool want_imu = mode == conflict::ResolutionMode::kImu ||
                           (mode == conflict::ResolutionMode::kAuto && whole && enough_tested &&
                            ((tracker_.justEntered() && !clear_split) ||
-                            (static_count < options_.auto_min_static_landmarks && !split_found_group_)));
+                            (static_count < options_.auto_min_static_landmarks && !keep_selective)));
     if (want_imu) {
       imu_dominated_ = true;
       drift_opened_ = drift_fired;

@@ -144,10 +144,14 @@ class MotionConflictMonitor {
   conflict::LandmarkConflictDetector landmark_detector_;
   conflict::RegionSplitDetector split_detector_;
   /// The region split's test found the group of the conflict suspected or open now. Auto then
-  /// stays selective when most landmarks come to disagree with the IMU: that prediction starts
-  /// from a state the object pulled before it was found (the rendered slow object, growing to 77 %
-  /// of the view, went IMU-dominated mid-interval with a rewind into that pull: 0.046 -> 0.141 m).
-  bool split_found_group_ = false;
+  /// stays selective when most landmarks come to disagree with the IMU, as long as at least
+  /// auto_min_static_landmarks tracks in view are not found moving: the IMU prediction starts from
+  /// a state the object pulled before it was found (the rendered slow object, growing to 77 % of
+  /// the view, went IMU-dominated mid-interval with a rewind into that pull: 0.046 -> 0.141 m; only
+  /// while the split kept firing: 0.141 m too, it flaps once the moving tracks are eliminated). The
+  /// count lets an elevator go IMU-dominated once its doors close (with the frontend's labels the
+  /// cabin's tracks are all eliminated; held selective, the window lost every landmark: 11.6 m).
+  bool split_group_seen_ = false;
   conflict::ConflictIntervalTracker tracker_;
   conflict::LandmarkMotionClassifier classifier_;
   conflict::SecondaryMotionTracker secondary_;
