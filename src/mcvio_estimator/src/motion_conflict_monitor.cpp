@@ -178,6 +178,16 @@ bool MotionConflictMonitor::imuMotion(const Entry& r, Timestamp t, const ImuBuff
   return motion->t.allFinite() && motion->R.allFinite();
 }
 
+std::size_t MotionConflictMonitor::trackReach(const ObservationMap& cam0, std::size_t max_frames) const {
+  std::size_t reach = 0;
+  for (auto it = history_.rbegin(); it != history_.rend() && reach < max_frames; ++it, ++reach) {
+    int common = 0;
+    for (const auto& [id, n] : cam0) common += it->cam0.count(id) != 0 ? 1 : 0;
+    if (common < options_.min_landmarks_tested) break;
+  }
+  return reach;
+}
+
 bool MotionConflictMonitor::visionVelocity(std::size_t i, std::size_t span, const ImuBuffer& imu,
                                            Eigen::Vector3d* v) const {
   if (i < span || i >= history_.size()) return false;
@@ -250,13 +260,23 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   std::vector<conflict::LandmarkConflictDetector::Verdict> verdicts;
   const bool selective_active = mode == conflict::ResolutionMode::kSelective || mode == conflict::ResolutionMode::kAuto;
   if (static_cast<int>(history_.size()) >= H) {
-    const std::size_t r_index = history_.size() - static_cast<std::size_t>(H);
+    std::size_t r_index = history_.size() - static_cast<std::size_t>(H);
     Entry r = history_[r_index];
     // Inside an IMU-dominated interval the inertial velocity has drifted from what vision sees;
-    // whether the conflict goes on is a question of acceleration, so take r's velocity from vision.
+    // whether the conflict goes on is a question of acceleration, so take r's velocity from vision
+    // (over the H frames before r). When the view's tracks do not reach that far back (every track
+    // is new once an occluder has gone) that velocity would measure the occluder, so the velocity
+    // span and the test span share what the tracks do reach.
     if (imu_dominated_) {
+      const std::size_t reach = trackReach(cam0, static_cast<std::size_t>(2 * H));
+      std::size_t span = static_cast<std::size_t>(H);
+      if (reach < static_cast<std::size_t>(2 * H) && reach >= 4) {  // two frames each at least
+        span = reach / 2;
+        r_index = history_.size() - (reach - span);
+        r = history_[r_index];
+      }
       Eigen::Vector3d v_vis;
-      if (visionVelocity(r_index, static_cast<std::size_t>(H), imu, &v_vis)) r.state.v = v_vis;
+      if (visionVelocity(r_index, span, imu, &v_vis)) r.state.v = v_vis;
     }
     conflict::RelativeMotion imu_rel;
     State propagated;

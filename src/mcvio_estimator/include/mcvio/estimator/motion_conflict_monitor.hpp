@@ -123,6 +123,9 @@ class MotionConflictMonitor {
   /// ConflictOptions::bias_reference_lag_frames); `propagated` is r's state moved to t.
   bool imuMotion(const Entry& r, Timestamp t, const ImuBuffer& imu, conflict::RelativeMotion* motion,
                  State* propagated) const;
+  /// How many of the latest history frames (at most max_frames) still saw at least
+  /// min_landmarks_tested of the tracks in cam0.
+  std::size_t trackReach(const ObservationMap& cam0, std::size_t max_frames) const;
   /// Vision-only world velocity at history index i: the vision displacement over the `span` frames
   /// before it, with the IMU's preintegration over the same frames.
   bool visionVelocity(std::size_t i, std::size_t span, const ImuBuffer& imu, Eigen::Vector3d* v) const;
