@@ -25,13 +25,15 @@ constexpr double kMaxAteM = 0.05;
 constexpr double kMaxConflictFraction = 0.02;
 
 pipeline::sequences::RunAccuracy runAndEvaluate(const sim::Simulator& simulator, const std::string& name,
-                                                pipeline::OfflineRunSummary* summary, std::size_t* conflict_frames) {
+                                                pipeline::OfflineRunSummary* summary, std::size_t* conflict_frames,
+                                                const std::string& mode = "") {
   const std::string out = ::testing::TempDir() + "/accuracy_" + name + "_" + std::to_string(getpid());
   pipeline::OfflineRunOptions o;
   o.dataset_dir = name;
   o.output_dir = out;
   o.progress = false;
   o.config_file = MCVIO_PIPELINE_CONFIG;  // the shipped, measured configuration
+  o.mode = mode;
   CovarianceLog covariances;
   *conflict_frames = 0;
   o.on_frame = [&](std::size_t, const pipeline::VioFrameResult& r) {
@@ -94,4 +96,29 @@ TEST(OfflineAccuracy, SemiRealV101First60s) {
   EXPECT_GE(a.nees_frames + 25, s.frames);
   EXPECT_GT(a.position_nees, 1.0);
   EXPECT_LT(a.position_nees, 10.0);
+}
+
+// A slow object (`mcvio sim --scenario slow_object --duration 30 --onset 10 --scenario-duration 12
+// --seed 3`) fills 44 % of the view when its interval opens, and vision as a whole, pulled by it,
+// fails the propagated-state test on a frame where the region split has found its group. Auto
+// took that for a whole-view conflict and went IMU-dominated for 5.7 s (ATE 0.134 m against the
+// reference's 0.395 m); a group found by the split beside a side that agrees with the IMU now
+// makes the conflict partial: 0.053 m.
+TEST(OfflineAccuracy, RenderedSlowObjectFoundByTheRegionSplitStaysSelective) {
+  sim::SimulatorOptions so;
+  so.seed = 3;
+  so.duration_s = 30.0;
+  so.overwrite = true;
+  so.scenario.kind = sim::ScenarioKind::kSlowObject;
+  so.scenario.onset_s = 10.0;
+  so.scenario.duration_s = 12.0;
+  const sim::Simulator simulator(so);
+  pipeline::OfflineRunSummary s_ref, s_auto;
+  std::size_t conflict_ref = 0, conflict_auto = 0;
+  const auto ref = runAndEvaluate(simulator, "rendered_slow_object_ref", &s_ref, &conflict_ref, "reference");
+  const auto aut = runAndEvaluate(simulator, "rendered_slow_object_auto", &s_auto, &conflict_auto, "auto");
+  EXPECT_EQ(s_auto.resets, 0u);
+  EXPECT_GT(ref.ate_pos_yaw_rmse, 0.2);
+  EXPECT_LT(aut.ate_pos_yaw_rmse, 0.2 * ref.ate_pos_yaw_rmse);
+  EXPECT_GT(conflict_auto, 100u);  // 197 labelled frames
 }
