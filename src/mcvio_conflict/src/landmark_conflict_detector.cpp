@@ -5,7 +5,7 @@
 
 #include <Eigen/Dense>
 
-#include "mcvio/conflict/cam0_reprojector.hpp"
+#include "mcvio/conflict/so3_math.hpp"
 
 namespace mcvio::conflict {
 
@@ -39,19 +39,27 @@ bool fitRigid(const std::vector<Eigen::Vector3d>& P, const std::vector<Eigen::Ve
 LandmarkConflictDetector::Result LandmarkConflictDetector::test(const std::vector<TrackedPoint>& points,
                                                                 const RelativeMotion& imu) const {
   Result res;
-  const Cam0Reprojector reprojector(rig_);
-  const double f = reprojector.focalPx();
+  const Eigen::Isometry3d T_CB = rig_.T_BC0.inverse();
+  const double f = rig_.focal_px;
   const double s_obs2 = options_.observation_sigma_px * options_.observation_sigma_px;
   const Eigen::Matrix3d Rt = imu.R.transpose();
   for (const auto& p : points) {
-    Cam0Reprojector::Linearisation lin;
-    if (!reprojector.linearise(imu, p.X_r, p.n0_k, &lin)) continue;
-    const Eigen::Vector2d& r = lin.residual;
-    const Eigen::Matrix<double, 2, 6>& J_motion = lin.J_motion;
+    const Eigen::Vector3d X_k = Rt * (p.X_r - imu.t);
+    const Eigen::Vector3d X_c = T_CB * X_k;
+    if (X_c.z() < 0.05) continue;
+    const double iz = 1.0 / X_c.z();
+    const Eigen::Vector2d r = f * (X_c.head<2>() * iz - p.n0_k);
+    Eigen::Matrix<double, 2, 3> Jp;
+    Jp << iz, 0, -X_c.x() * iz * iz, 0, iz, -X_c.y() * iz * iz;
+    const Eigen::Matrix<double, 2, 3> J_xk = f * Jp * T_CB.linear();
+    Eigen::Matrix<double, 3, 6> Jm;
+    Jm.leftCols<3>() = so3::hat(X_k);
+    Jm.rightCols<3>() = -Rt;
+    const Eigen::Matrix<double, 2, 6> J_motion = J_xk * Jm;
     const double lateral = p.depth_r * options_.observation_sigma_px / f;
     const Eigen::Matrix3d S_xr = p.depth_sigma_r * p.depth_sigma_r * p.ray_r * p.ray_r.transpose() +
                                  lateral * lateral * (Eigen::Matrix3d::Identity() - p.ray_r * p.ray_r.transpose());
-    const Eigen::Matrix<double, 2, 3> J_point = lin.J_point * Rt;
+    const Eigen::Matrix<double, 2, 3> J_point = J_xk * Rt;
     Eigen::Matrix2d S = J_motion * imu.covariance * J_motion.transpose() + J_point * S_xr * J_point.transpose();
     S += s_obs2 * Eigen::Matrix2d::Identity();
     Verdict v;

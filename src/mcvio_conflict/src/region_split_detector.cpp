@@ -6,7 +6,6 @@
 
 #include <Eigen/Dense>
 
-#include "mcvio/conflict/cam0_reprojector.hpp"
 #include "mcvio/conflict/so3_math.hpp"
 
 namespace mcvio::conflict {
@@ -42,7 +41,8 @@ struct Normal {
 RegionSplitDetector::Result RegionSplitDetector::test(const std::vector<TrackedPoint>& points,
                                                       const RelativeMotion& imu, const RelativeMotion& around) const {
   Result res;
-  const Cam0Reprojector reprojector(rig_);
+  const Eigen::Isometry3d T_CB = rig_.T_BC0.inverse();
+  const double f = rig_.focal_px;
   // Per point: residual and Jacobian at `around` (right perturbation of R, additive t).
   std::vector<Normal> per_point;
   std::vector<Eigen::Vector2d> image;
@@ -50,12 +50,20 @@ RegionSplitDetector::Result RegionSplitDetector::test(const std::vector<TrackedP
   per_point.reserve(points.size());
   image.reserve(points.size());
   source.reserve(points.size());
+  const Eigen::Matrix3d Rt = around.R.transpose();
   for (const auto& p : points) {
-    Cam0Reprojector::Linearisation lin;
-    if (!reprojector.linearise(around, p.X_r, p.n0_k, &lin)) continue;
-    const Eigen::Vector2d& r = lin.residual;
+    const Eigen::Vector3d X_k = Rt * (p.X_r - around.t);
+    const Eigen::Vector3d X_c = T_CB * X_k;
+    if (X_c.z() < 0.05) continue;
+    const double iz = 1.0 / X_c.z();
+    const Eigen::Vector2d r = f * (X_c.head<2>() * iz - p.n0_k);
     if (!(r.norm() < options_.outlier_px)) continue;
-    const Eigen::Matrix<double, 2, 6>& J = lin.J_motion;
+    Eigen::Matrix<double, 2, 3> Jp;
+    Jp << iz, 0, -X_c.x() * iz * iz, 0, iz, -X_c.y() * iz * iz;
+    Eigen::Matrix<double, 3, 6> Jx;
+    Jx.leftCols<3>() = so3::hat(X_k);
+    Jx.rightCols<3>() = -Rt;
+    const Eigen::Matrix<double, 2, 6> J = f * Jp * T_CB.linear() * Jx;
     Normal nrm;
     nrm.H = J.transpose() * J;
     nrm.g = J.transpose() * r;

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "mcvio/conflict/cam0_reprojector.hpp"
 #include "mcvio/conflict/so3_math.hpp"
 
 namespace mcvio::conflict {
@@ -12,14 +11,10 @@ RelativePoseSolver::Result RelativePoseSolver::solve(const std::vector<TrackedPo
                                                      const RelativeMotion& initial) const {
   Result res;
   if (static_cast<int>(points.size()) < options_.min_points) return res;
-  const Cam0Reprojector reprojector(rig_);
-  const Eigen::Isometry3d& T_CB = reprojector.T_CB();
-  const double f = reprojector.focalPx();
-  RelativeMotion current;  // R, t iterate; its covariance is filled at the end
-  current.R = initial.R;
-  current.t = initial.t;
-  Eigen::Matrix3d& R = current.R;
-  Eigen::Vector3d& t = current.t;
+  const Eigen::Isometry3d T_CB = rig_.T_BC0.inverse();
+  const double f = rig_.focal_px;
+  Eigen::Matrix3d R = initial.R;
+  Eigen::Vector3d t = initial.t;
   std::vector<char> use(points.size(), 1);
   Eigen::Matrix<double, 6, 6> H;
 
@@ -30,10 +25,17 @@ RelativePoseSolver::Result RelativePoseSolver::solve(const std::vector<TrackedPo
       int n = 0;
       for (std::size_t i = 0; i < points.size(); ++i) {
         if (!use[i]) continue;
-        Cam0Reprojector::Linearisation lin;
-        if (!reprojector.linearise(current, points[i].X_r, points[i].n0_k, &lin)) continue;
-        const Eigen::Vector2d& r = lin.residual;
-        const Eigen::Matrix<double, 2, 6>& J = lin.J_motion;
+        const Eigen::Vector3d X_k = R.transpose() * (points[i].X_r - t);
+        const Eigen::Vector3d X_c = T_CB * X_k;
+        if (X_c.z() < 0.05) continue;
+        const double iz = 1.0 / X_c.z();
+        const Eigen::Vector2d r = f * (X_c.head<2>() * iz - points[i].n0_k);
+        Eigen::Matrix<double, 2, 3> Jp;
+        Jp << iz, 0, -X_c.x() * iz * iz, 0, iz, -X_c.y() * iz * iz;
+        Eigen::Matrix<double, 3, 6> Jx;
+        Jx.leftCols<3>() = so3::hat(X_k);   // d X_k / d dtheta (right perturbation of R)
+        Jx.rightCols<3>() = -R.transpose();  // d X_k / d dt
+        const Eigen::Matrix<double, 2, 6> J = f * Jp * T_CB.linear() * Jx;
         double w = 1.0;
         const double e = r.norm();
         if (robust && e > options_.huber_px) w = options_.huber_px / e;
