@@ -475,7 +475,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     // So is a group the region split found beside a side that agrees with the IMU: vision as a
     // whole may fail the propagated test on the same frame (pulled by the group before its tracks
     // are eliminated), but that side is static (a rendered slow object filling 44 % of the view went
-    // IMU-dominated for 5.7 s: 0.134 m, selective 0.053 m).
+    // IMU-dominated for 5.7 s: 0.133 m, selective 0.053 m).
     const bool clear_split = (d.report.inconsistent_fraction >= options_.auto_split_fraction &&
                               static_count >= options_.auto_min_static_landmarks) ||
                              split_group;

@@ -101,7 +101,7 @@ TEST(OfflineAccuracy, SemiRealV101First60s) {
 // A slow object (`mcvio sim --scenario slow_object --duration 30 --onset 10 --scenario-duration 12
 // --seed 3`) fills 44 % of the view when its interval opens, and vision as a whole, pulled by it,
 // fails the propagated-state test on a frame where the region split has found its group. Auto
-// took that for a whole-view conflict and went IMU-dominated for 5.7 s (ATE 0.134 m against the
+// took that for a whole-view conflict and went IMU-dominated for 5.7 s (ATE 0.133 m against the
 // reference's 0.395 m); a group found by the split beside a side that agrees with the IMU now
 // makes the conflict partial: 0.053 m.
 TEST(OfflineAccuracy, RenderedSlowObjectFoundByTheRegionSplitStaysSelective) {
