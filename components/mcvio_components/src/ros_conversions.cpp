@@ -290,6 +290,7 @@ mcvio_msgs::msg::dds_::MotionConflict_ toMotionConflictMsg(const estimator::Esti
   msg.frontend_inconsistent(static_cast<std::uint32_t>(std::max(0, c.frontend_inconsistent)));
   msg.accel_bias_drift(c.accel_bias_drift);
   msg.split_chi2(c.split_chi2);
+  msg.evidence_score(c.evidence_score);
   return msg;
 }
 

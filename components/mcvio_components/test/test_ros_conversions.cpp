@@ -210,6 +210,7 @@ TEST(RosConversions, MotionConflictCarriesEveryField) {
   c.frontend_inconsistent = 140;
   c.accel_bias_drift = 0.0625;
   c.split_chi2 = 131.25;
+  c.evidence_score = 0.375;
   const auto msg = toMotionConflictMsg(e, "world");
   EXPECT_EQ(stampOf(msg.header()), e.t);
   EXPECT_EQ(msg.state(), 2u);
@@ -230,6 +231,7 @@ TEST(RosConversions, MotionConflictCarriesEveryField) {
   EXPECT_EQ(msg.frontend_inconsistent(), 140u);
   EXPECT_EQ(msg.accel_bias_drift(), 0.0625);
   EXPECT_EQ(msg.split_chi2(), 131.25);
+  EXPECT_EQ(msg.evidence_score(), 0.375);
   e.conflict = {};
   const auto none = toMotionConflictMsg(e, "world");
   EXPECT_EQ(none.state(), 0u);

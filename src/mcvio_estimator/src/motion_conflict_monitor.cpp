@@ -416,10 +416,8 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   // Statistics before the warm-up ends are still settling: no build-up to go back over.
   const bool scored = tested && frames_since_reset_ >= options_.warmup_frames;
   const bool was_active = conflictActive();
-  const auto state = tracker_.update(t, evidence, tested,
-                                     evidence ? std::max(score, 1.0)
-                                     : scored ? score
-                                              : std::numeric_limits<double>::quiet_NaN());
+  d.report.evidence_score = evidence ? std::max(score, 1.0) : scored ? score : std::numeric_limits<double>::quiet_NaN();
+  const auto state = tracker_.update(t, evidence, tested, d.report.evidence_score);
   // Selective elimination acts only around detected conflicts, so a clean sequence keeps every
   // landmark (and the reference's accuracy). Inside an IMU-dominated interval every landmark
   // disagrees with the inertial motion; that says nothing about which of them move afterwards.

@@ -240,9 +240,13 @@ TEST(MotionConflictMonitor, StaticWorldWithConsistentImuRaisesNoConflict) {
   sc.imu_bias.gyro = Eigen::Vector3d(0.002, -0.001, 0.0015);
   const conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
   const auto frames = run(sc, o, 160);
+  // No evidence score while the statistics settle.
+  for (int k = 0; k < o.warmup_frames; ++k) EXPECT_TRUE(std::isnan(frames[k].decision.report.evidence_score)) << k;
   for (int k = o.warmup_frames; k < static_cast<int>(frames.size()); ++k) {
     const auto& d = frames[k].decision;
     SCOPED_TRACE("frame " + std::to_string(k));
+    EXPECT_GE(d.report.evidence_score, 0.0);
+    EXPECT_LT(d.report.evidence_score, 0.1) << "the noise stays under onset_min_score";
     ASSERT_GE(frames[k].observed.size(), 30u);
     // The detectors ran: the horizon is filled and vision found the motion.
     EXPECT_GE(d.report.landmarks_tested, 30);
@@ -267,8 +271,17 @@ TEST(MotionConflictMonitor, CabinInImuModeGoesImuDominatedWithRewindAndHeldBias)
   EXPECT_LE(entry, kCabinFrame + kMaxCabinEntryDelay);
   // enter_frames frames of evidence: suspected, then the interval opens at the first of them.
   const int first_evidence = entry - o.enter_frames + 1;
-  for (int k = first_evidence; k < entry; ++k)
-    EXPECT_EQ(frames[k].decision.report.state, ConflictReport::State::kSuspected) << "frame " << k;
+  for (int k = first_evidence; k <= entry; ++k) {
+    if (k < entry) {
+      EXPECT_EQ(frames[k].decision.report.state, ConflictReport::State::kSuspected) << "frame " << k;
+    }
+    EXPECT_GE(frames[k].decision.report.evidence_score, 1.0) << "frame " << k;
+  }
+  EXPECT_LT(frames[first_evidence - 1].decision.report.evidence_score, 1.0);
+  // In hindsight the interval starts where the score rose from the noise (the build-up), not later
+  // than the first evidence.
+  EXPECT_LE(frames[entry].decision.report.interval_onset, frameTime(first_evidence));
+  EXPECT_GE(frames[entry].decision.report.interval_onset, frameTime(kCabinFrame));
   EXPECT_EQ(frames[first_evidence - 1].decision.report.state, ConflictReport::State::kNone);
   const auto& d = frames[entry].decision;
   EXPECT_EQ(d.report.state, ConflictReport::State::kConflict);

@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
   estimator::SlidingWindowEstimator est(eo, seq.calibration);
   std::ofstream csv;
   if (argc > 5 && std::string(argv[5]) != "-") csv.open(argv[5]);
-  if (csv) csv << "t,state,chi2,tested,inconsistent,fraction,coherence,label,px,py,pz,gx,gy,gz,sec_valid,sz,bax,bay,baz,vx,vy,vz,drift,moving,split\n";
+  if (csv) csv << "t,state,chi2,tested,inconsistent,fraction,coherence,label,px,py,pz,gx,gy,gz,sec_valid,sz,bax,bay,baz,vx,vy,vz,drift,moving,split,score\n";
   std::size_t k = 0, g = 0, li = 0;
   std::vector<Eigen::Vector3d> pe, pg;
   std::vector<Timestamp> pt;
@@ -144,7 +144,7 @@ int main(int argc, char** argv) {
           << int(out.conflict.secondary_valid) << ',' << out.conflict.p_WS.z() << ',' << out.bias.accel.x() << ','
           << out.bias.accel.y() << ',' << out.bias.accel.z() << ',' << out.v_WB.x() << ',' << out.v_WB.y() << ','
           << out.v_WB.z() << ',' << out.conflict.accel_bias_drift << ',' << moving_tracks[fi] << ','
-          << out.conflict.split_chi2 << '\n';
+          << out.conflict.split_chi2 << ',' << out.conflict.evidence_score << '\n';
   }
   const auto a = align4(pe, pg);
   double sq = 0, sqc = 0;

@@ -33,7 +33,7 @@ namespace mcvio::pipeline {
 const char* const kConflictCsvHeader =
     "timestamp_ns,state,propagated_chi2,propagated_threshold,landmarks_tested,landmarks_inconsistent,"
     "inconsistent_fraction,coherence,interval_start_ns,resolution_mode,interval_onset_ns,interval_end_ns,"
-    "frontend_checked,frontend_inconsistent,accel_bias_drift,split_chi2\n";
+    "frontend_checked,frontend_inconsistent,accel_bias_drift,split_chi2,evidence_score\n";
 
 namespace {
 
@@ -256,7 +256,7 @@ class RunRecorder {
                   << c.inconsistent_fraction << ',' << c.coherence << ',' << c.interval_start << ','
                   << c.resolution_mode << ',' << c.interval_onset << ',' << c.interval_end << ','
                   << c.frontend_checked << ',' << c.frontend_inconsistent << ',' << c.accel_bias_drift << ','
-                  << c.split_chi2 << '\n';
+                  << c.split_chi2 << ',' << c.evidence_score << '\n';
         conflict_frames += c.state == estimator::ConflictReport::State::kConflict ? 1 : 0;
         if (c.secondary_valid) {
           writeSeconds(secondary_, e.t);

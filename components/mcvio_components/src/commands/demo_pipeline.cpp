@@ -355,7 +355,7 @@ void DemoPipeline::runOverDds(const Sequence& s, SequenceResult& r) const {
         << c.inconsistent_fraction() << ',' << c.coherence() << ',' << nanosOf(c.interval_start()) << ','
         << c.resolution_mode() << ',' << nanosOf(c.interval_onset()) << ',' << nanosOf(c.interval_end()) << ','
         << c.frontend_checked() << ',' << c.frontend_inconsistent() << ',' << c.accel_bias_drift() << ','
-        << c.split_chi2() << '\n';
+        << c.split_chi2() << ',' << c.evidence_score() << '\n';
   }
   sec << "# t x y z qx qy qz qw  (the conflicting frame S in world, identity at the interval start; t in seconds)\n"
       << std::setprecision(9) << std::fixed;

@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -56,6 +57,10 @@ struct ConflictReport {
   /// Region-split detector: largest chi-square between two image sides' vision-only motions; 0
   /// untested.
   double split_chi2 = 0;
+  /// The frame's evidence score: the detector statistics relative to their thresholds, the largest
+  /// of them (at least 1 on a frame with evidence). NaN before the warm-up ends or where nothing
+  /// could be tested. The interval's onset in hindsight is where it built up (ConflictIntervalTracker).
+  double evidence_score = std::numeric_limits<double>::quiet_NaN();
   /// The conflicting group's frame S (cabin, vehicle, carried object) in the world: identity at
   /// the interval start, then its rigid motion; valid only while a coherent group is tracked.
   bool secondary_valid = false;
