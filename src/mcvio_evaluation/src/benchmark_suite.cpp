@@ -94,6 +94,7 @@ BenchmarkModeRun runEstimator(const sim::FeatureSequence& seq, const std::string
     r.interval_onset = out.conflict.interval_onset;
     r.interval_end = out.conflict.interval_end;
     r.resolution_mode = out.conflict.resolution_mode;
+    r.evidence_score = out.conflict.evidence_score;
     run.detector.push_back(r);
   }
   run.wall_s = secondsSince(t0);
@@ -106,7 +107,7 @@ BenchmarkModeRun runEstimator(const sim::FeatureSequence& seq, const std::string
 const std::vector<std::string> kDetectorColumns = {
     "timestamp_ns",          "state",     "propagated_chi2",   "propagated_threshold", "landmarks_tested",
     "landmarks_inconsistent", "inconsistent_fraction", "coherence", "interval_start_ns", "resolution_mode",
-    "interval_onset_ns",     "interval_end_ns"};
+    "interval_onset_ns",     "interval_end_ns", "evidence_score"};
 
 double percentError(double estimate, double truth) {
   if (!std::isfinite(estimate) || !std::isfinite(truth) || truth == 0) return kNaN;
@@ -278,6 +279,7 @@ BenchmarkSequenceResult BenchmarkSuite::evaluateSequence(const BenchmarkSequence
         for (const auto& roc : d.roc) {
           if (roc.score == "propagated_chi2_ratio") run.auc_propagated = roc.auc;
           if (roc.score == "inconsistent_fraction") run.auc_fraction = roc.auc;
+          if (roc.score == "evidence_score") run.auc_evidence = roc.auc;
           if (roc.positives == 0 || roc.negatives == 0) continue;
           for (const auto& p : roc.points) {
             if (p.fpr <= options.targets.max_fpr && (!std::isfinite(run.roc_best_tpr) || p.tpr > run.roc_best_tpr)) {

@@ -113,7 +113,8 @@ DetectorLog DetectorLog::load(const std::string& path) {
              c_chi2 = column("propagated_chi2"), c_thr = column("propagated_threshold"),
              c_tested = column("landmarks_tested"), c_incons = column("landmarks_inconsistent"),
              c_frac = column("inconsistent_fraction"), c_coh = column("coherence"),
-             c_start = column("interval_start_ns"), c_mode = column("resolution_mode");
+             c_start = column("interval_start_ns"), c_mode = column("resolution_mode"),
+             c_score = column("evidence_score");
   long c_onset = column("interval_onset_ns"), c_end = column("interval_end_ns");
 
   dataset::CsvReader csv(path);
@@ -163,6 +164,11 @@ DetectorLog DetectorLog::load(const std::string& path) {
       out = csv.int64At(static_cast<std::size_t>(c), name);
       if (out < 0) csv.fail(std::string("column '") + name + "': " + std::to_string(out) + " is negative");
     };
+    // "nan": a frame the detectors could not test.
+    if (c_score >= 0 && csv.field(static_cast<std::size_t>(c_score)) != "nan") {
+      r.evidence_score = csv.doubleAt(static_cast<std::size_t>(c_score), "evidence_score");
+      if (r.evidence_score < 0) csv.fail("column 'evidence_score': " + std::string(csv.field(static_cast<std::size_t>(c_score))) + " is negative");
+    }
     stamp(c_onset, "interval_onset_ns", r.interval_onset);
     stamp(c_end, "interval_end_ns", r.interval_end);
     if (r.interval_end != 0 && r.interval_end < r.interval_onset) {

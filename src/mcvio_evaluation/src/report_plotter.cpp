@@ -161,9 +161,13 @@ std::vector<std::string> ReportPlotter::write(const EvaluationReport& report, co
           fpr.push_back(p.fpr);
           tpr.push_back(p.tpr);
         }
-        const bool chi2 = roc.score == "propagated_chi2_ratio";
-        c.addLine(fpr, tpr, runColor(i),
-                  e.name + (chi2 ? ", chi2 / threshold (" : ", inconsistent fraction (") + aucText(roc.auc) + ")", 2, !chi2);
+        // One colour per run; the detectors' combined score solid and thick, the two statistics thin.
+        const bool combined = roc.score == "evidence_score";
+        const std::string what = combined                              ? ", evidence score ("
+                                 : roc.score == "propagated_chi2_ratio" ? ", chi2 / threshold ("
+                                                                        : ", inconsistent fraction (";
+        c.addLine(fpr, tpr, runColor(i), e.name + what + aucText(roc.auc) + ")", combined ? 3 : 1,
+                  roc.score == "inconsistent_fraction");
       }
     }
     written.push_back(dir + "/roc.png");

@@ -161,6 +161,8 @@ std::vector<MetricRow> metricRows(const EvaluationReport& report) {
                     [](const auto& e) { return aucOf(e, "propagated_chi2_ratio"); }});
     rows.push_back({"auc_inconsistent_fraction", "ROC AUC, inconsistent fraction", 3, false,
                     [](const auto& e) { return aucOf(e, "inconsistent_fraction"); }});
+    rows.push_back({"auc_evidence_score", "ROC AUC, evidence score", 3, false,
+                    [](const auto& e) { return aucOf(e, "evidence_score"); }});
   }
   return rows;
 }

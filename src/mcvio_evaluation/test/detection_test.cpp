@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -213,6 +214,41 @@ TEST(DetectorLog, IntervalsInHindsight) {
   EXPECT_EQ(d.hindsight.fn, 1u);
   EXPECT_EQ(d.hindsight.fp, 0u);
   EXPECT_EQ(d.hindsight.tn, 3u);
+}
+
+TEST(DetectorLog, TheEvidenceScoreGivesItsOwnRoc) {
+  // The combined score separates what neither statistic alone does: frames 5..8 of the labelled
+  // interval show in the chi2 only, frames 9..12 in the fraction only.
+  const std::string dir = test::freshDir("detector_evidence");
+  std::string text = "timestamp_ns,state,propagated_chi2,propagated_threshold,inconsistent_fraction,evidence_score\n";
+  for (int i = 0; i < 20; ++i) {
+    const bool chi2_part = i >= 5 && i <= 8, fraction_part = i >= 9 && i <= 12;
+    const double chi2 = chi2_part ? 30.0 : 2.0, fraction = fraction_part ? 0.5 : 0.02;
+    const std::string score = i < 2 ? "nan" : std::to_string(std::max(chi2 / 20.0, fraction / 0.6));
+    text += std::to_string(kT0 + i * kFrame) + (chi2_part || fraction_part ? ",conflict," : ",none,") +
+            std::to_string(chi2) + ",20," + std::to_string(fraction) + "," + score + "\n";
+  }
+  test::writeText(dir + "/conflict.csv", text);
+  const DetectorLog log = DetectorLog::load(dir + "/conflict.csv");
+  EXPECT_TRUE(std::isnan(log.records()[0].evidence_score)) << "nan: not tested";
+  EXPECT_DOUBLE_EQ(log.records()[5].evidence_score, 1.5);
+  const DetectionResult r = evaluateDetection(log, twentyFrameLabels());
+  ASSERT_EQ(r.roc.size(), 3u);
+  EXPECT_EQ(r.roc[2].score, "evidence_score");
+  EXPECT_EQ(r.roc[2].skipped, 2u);
+  EXPECT_DOUBLE_EQ(r.roc[2].auc, 1.0);
+  EXPECT_LT(r.roc[0].auc, 0.8);
+  EXPECT_LT(r.roc[1].auc, 0.8);
+
+  std::string path;
+  const std::string h = "timestamp_ns,state,evidence_score\n";
+  std::string e = loadError("det_score", h + "1000,none,-0.5\n", &path);
+  EXPECT_NE(e.find(path + ":2:"), std::string::npos) << e;
+  EXPECT_NE(e.find("evidence_score"), std::string::npos) << e;
+  e = loadError("det_score_text", h + "1000,none,high\n", &path);
+  EXPECT_NE(e.find("evidence_score"), std::string::npos) << e;
+  e = loadError("det_score_inf", h + "1000,none,inf\n", &path);
+  EXPECT_NE(e.find("evidence_score"), std::string::npos) << e;
 }
 
 TEST(DetectorLog, ToleratesMissingOptionalColumnsInAnyOrder) {

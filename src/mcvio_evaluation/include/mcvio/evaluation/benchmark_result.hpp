@@ -75,7 +75,7 @@ struct BenchmarkRun {
   /// ROC of the detector scores: the best TPR with FPR <= targets.max_fpr and its score name.
   double roc_best_tpr = kNaN;
   std::string roc_best_score;
-  double auc_propagated = kNaN, auc_fraction = kNaN;
+  double auc_propagated = kNaN, auc_fraction = kNaN, auc_evidence = kNaN;
 
   double cpu_median_ms = kNaN;     ///< backend CPU per frame (EstimatorTimings::cpu_total_ms)
   double cpu_mean_ms = kNaN;

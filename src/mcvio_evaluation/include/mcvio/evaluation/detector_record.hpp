@@ -24,6 +24,9 @@ struct DetectorRecord {
   Timestamp interval_onset = 0;
   Timestamp interval_end = 0;
   std::string resolution_mode;
+  /// The detectors' combined evidence score (their statistics relative to their thresholds, at
+  /// least 1 on a frame with evidence); NaN where nothing could be tested or the file lacks it.
+  double evidence_score = std::numeric_limits<double>::quiet_NaN();
 
   /// propagated_chi2 / propagated_threshold (> 1 means the chi-square test fails); the bare
   /// chi2 when the threshold is missing or not positive.
