@@ -111,6 +111,7 @@ DetectionResult evaluateDetection(const DetectorLog& log, const ConflictLabelTim
     r.times.push_back(row.t);
     r.labelled.push_back(labelled);
     r.detected.push_back(detected);
+    r.evidence.push_back(row.evidence_score);
     ratio_scores.push_back(row.propagatedRatio());
     fraction_scores.push_back(row.inconsistent_fraction);
     evidence_scores.push_back(row.evidence_score);

@@ -1,6 +1,7 @@
 #include "mcvio/evaluation/report_plotter.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -139,6 +140,36 @@ std::vector<std::string> ReportPlotter::write(const EvaluationReport& report, co
     c.setYRange(0, max_error > 0 ? max_error * 1.08 : 1.0);
     c.setXRange(0, std::max(toSeconds(t_end - t_begin), 1e-3));
     written.push_back(dir + "/error_over_time.png");
+    c.save(written.back());
+  }
+  // Evidence over time: how far each run's detectors were from firing, frame by frame.
+  bool any_evidence = false;
+  for (const auto& e : report.estimates)
+    if (e.detection)
+      any_evidence = any_evidence || std::any_of(e.detection->evidence.begin(), e.detection->evidence.end(),
+                                                 [](double s) { return std::isfinite(s); });
+  if (any_evidence) {
+    constexpr double kTop = 3.0;  // above that a frame is plainly in conflict; the shape is below 1
+    PlotCanvas c("Conflict evidence over time (detector statistics / thresholds)", style);
+    c.setXLabel(time_label);
+    c.setYLabel("evidence score (clipped at 3)");
+    shadeIntervals(c, report, t0);
+    const double x_max = std::max(toSeconds(t_end - t_begin), 1e-3);
+    c.addLine({0, x_max}, {1, 1}, cv::Scalar(90, 90, 90), "a detector fires (1)", 1, true);
+    c.addLine({0, x_max}, {0.1, 0.1}, cv::Scalar(160, 160, 160), "hindsight onset level (0.1)", 1, true);
+    for (std::size_t i = 0; i < report.estimates.size(); ++i) {
+      const auto& e = report.estimates[i];
+      if (!e.detection) continue;
+      std::vector<double> t, s;
+      for (std::size_t k = 0; k < e.detection->times.size(); ++k) {
+        t.push_back(since(e.detection->times[k], t0));
+        s.push_back(std::min(e.detection->evidence[k], kTop));
+      }
+      c.addLine(t, s, runColor(i), e.name, 1);
+    }
+    c.setYRange(0, kTop);
+    c.setXRange(0, x_max);
+    written.push_back(dir + "/evidence_over_time.png");
     c.save(written.back());
   }
   // ROC.

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -92,6 +93,8 @@ TEST(ReportPlotter, WritesEveryFigure) {
     r.propagated_chi2 = (i >= 160 && i < 250) ? 30.0 + i % 7 : 5.0 + i % 11;
     r.propagated_threshold = 12.6;
     r.inconsistent_fraction = l.in_conflict ? 0.5 + 0.01 * (i % 10) : 0.02 * (i % 30);
+    // Untested during the warm-up; far above 1 inside the interval (clipped in the plot).
+    r.evidence_score = i < 20 ? NAN : std::max(r.propagated_chi2 / r.propagated_threshold, r.inconsistent_fraction / 0.6);
     rows.push_back(r);
   }
   Trajectory ref, mc;
@@ -104,13 +107,13 @@ TEST(ReportPlotter, WritesEveryFigure) {
     ref.append(p);
     mc.append(q);
   }
-  const DetectorLog log(rows, {"timestamp_ns", "state", "propagated_chi2", "propagated_threshold", "inconsistent_fraction"}, "c.csv");
+  const DetectorLog log(rows, {"timestamp_ns", "state", "propagated_chi2", "propagated_threshold", "inconsistent_fraction", "evidence_score"}, "c.csv");
   const EvaluationReport report = Evaluator().evaluate(
       gt, {{"reference", ref, std::nullopt}, {"mcvio", mc, log}}, ConflictLabelTimeline(labels, "labels.csv"));
   const std::string dir = test::freshDir("plots");
   const auto files = ReportPlotter::write(report, dir);
-  ASSERT_EQ(files.size(), 4u);
-  for (const char* name : {"trajectory_top.png", "trajectory_side.png", "error_over_time.png", "roc.png"}) {
+  ASSERT_EQ(files.size(), 5u);
+  for (const char* name : {"trajectory_top.png", "trajectory_side.png", "error_over_time.png", "evidence_over_time.png", "roc.png"}) {
     const std::string path = dir + "/" + name;
     ASSERT_TRUE(std::filesystem::exists(path)) << path;
     EXPECT_GT(std::filesystem::file_size(path), 5000u) << path;
@@ -120,7 +123,7 @@ TEST(ReportPlotter, WritesEveryFigure) {
     EXPECT_EQ(img.rows, 700) << path;
     EXPECT_GT(countColor(img, ReportPlotter::runColor(1), 20), 200) << path;  // the mcvio curve
   }
-  // Without a detector log there is no ROC figure.
+  // Without a detector log there is no ROC or evidence figure.
   const EvaluationReport plain = Evaluator().evaluate(gt, {{"reference", ref, std::nullopt}});
   EXPECT_EQ(ReportPlotter::write(plain, test::freshDir("plots_plain")).size(), 3u);
 }

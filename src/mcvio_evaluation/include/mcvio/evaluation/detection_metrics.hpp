@@ -54,8 +54,8 @@ struct DetectionResult {
   std::size_t frames = 0;               ///< detector rows matched to a label
   std::size_t rows_without_label = 0;   ///< detector rows with no label nearby
   std::size_t labels_without_row = 0;   ///< labelled frames the run has no detector row for
-  /// ROC per score column present in the log: "propagated_chi2_ratio" (chi2 / threshold) and
-  /// "inconsistent_fraction".
+  /// ROC per score column present in the log: "propagated_chi2_ratio" (chi2 / threshold),
+  /// "inconsistent_fraction" and "evidence_score".
   std::vector<RocCurve> roc;
   /// The same frames counted against the run's conflict intervals in hindsight (onset where the
   /// evidence built up, end at the last frame with evidence), when the log has them.
@@ -65,6 +65,7 @@ struct DetectionResult {
   std::vector<Timestamp> times;
   std::vector<bool> labelled;
   std::vector<bool> detected;
+  std::vector<double> evidence;  ///< the evidence score (NaN: untested, or not in the log)
 };
 
 /// Matches every detector row to the label of the same frame and counts TP/FP/TN/FN per frame.
