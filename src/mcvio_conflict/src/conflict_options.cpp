@@ -74,6 +74,9 @@ void ConflictOptions::validate() const {
   require(bias_drift_sigmas >= 0, "bias_drift_sigmas", "must be >= 0 (0: off)", bias_drift_sigmas);
   require(bias_drift_arm_frames >= 0, "bias_drift_arm_frames", "must be >= 0", bias_drift_arm_frames);
   require(bias_drift_min_frames >= 1, "bias_drift_min_frames", "must be >= 1", bias_drift_min_frames);
+  require(bias_drift_fast_factor == 0 || bias_drift_fast_factor >= 1, "bias_drift_fast_factor",
+          "must be 0 (off) or >= 1", bias_drift_fast_factor);
+  require(bias_drift_fast_frames >= 1, "bias_drift_fast_frames", "must be >= 1", bias_drift_fast_frames);
   require(enter_frames >= 1, "enter_frames", "must be >= 1", enter_frames);
   require(exit_frames >= 1, "exit_frames", "must be >= 1", exit_frames);
   require(onset_min_score > 0 && onset_min_score <= 1, "onset_min_score", "must be in (0, 1]", onset_min_score);
@@ -147,6 +150,8 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("bias_drift_sigmas", &o.bias_drift_sigmas);
   read("bias_drift_arm_frames", &o.bias_drift_arm_frames);
   read("bias_drift_min_frames", &o.bias_drift_min_frames);
+  read("bias_drift_fast_factor", &o.bias_drift_fast_factor);
+  read("bias_drift_fast_frames", &o.bias_drift_fast_frames);
   read("enter_frames", &o.enter_frames);
   read("exit_frames", &o.exit_frames);
   read("onset_min_score", &o.onset_min_score);

@@ -67,6 +67,7 @@ void MotionConflictMonitor::reset() {
   imu_dominated_ = false;
   drift_opened_ = false;
   drift_frames_ = 0;
+  fast_drift_frames_ = 0;
   have_reference_bias_ = false;
   frames_since_reset_ = 0;
   frames_since_imu_exit_ = -1;
@@ -362,13 +363,20 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     // of the limit, and would backdate every interval's onset the whole lookback.
     if (drift >= limit) score = std::max(score, drift / limit);
     drift_frames_ = drift >= limit ? drift_frames_ + 1 : 0;
-    drift_fired = drift_frames_ >= options_.bias_drift_min_frames;
+    // A brisk bend is a whole-view claim, so it needs the view auto trusts with one (at least
+    // auto_min_tested_landmarks tested): an occluder filling the view leaves a few tracks, the
+    // bias swings with them, and the landmark and frontend tests are the ones to judge it.
+    const bool fast = options_.bias_drift_fast_factor > 0 && drift >= options_.bias_drift_fast_factor * limit &&
+                      d.report.landmarks_tested >= options_.auto_min_tested_landmarks;
+    fast_drift_frames_ = fast ? fast_drift_frames_ + 1 : 0;
+    drift_fired = drift_frames_ >= options_.bias_drift_min_frames || fast_drift_frames_ >= options_.bias_drift_fast_frames;
     if (drift_fired) {
       whole = true;
       evidence = true;
     }
   } else {
     drift_frames_ = 0;
+    fast_drift_frames_ = 0;
   }
   // Tracks already found moving and still in view keep a partial conflict open: selective
   // elimination has taken them out of the test above, so without this the interval would close

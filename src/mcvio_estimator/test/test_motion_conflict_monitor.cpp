@@ -615,7 +615,8 @@ TEST(MotionConflictMonitor, AnAccelerometerBiasBentPastItsLimitIsEvidence) {
   Scenario sc;
   sc.points = staticPoints(80, 0, 11);
   sc.committed_bias = ramp(kRampFrame, 1.0);
-  const conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
+  conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
+  o.bias_drift_fast_factor = 0;  // the gentle path alone (the brisk one: next test)
   ASSERT_DOUBLE_EQ(o.bias_drift_sigmas, 2.5);
   const int total = kRampFrame + 60;
   const auto frames = run(sc, o, total);
@@ -644,6 +645,62 @@ TEST(MotionConflictMonitor, AnAccelerometerBiasBentPastItsLimitIsEvidence) {
   sc.committed_bias = ramp(100, 1.0);
   const auto early = run(sc, o, 200);
   for (const auto& f : early) EXPECT_FALSE(inConflict(f));
+}
+
+TEST(MotionConflictMonitor, ABriskBiasBendIsEvidenceWithinTwoFrames) {
+  // A vehicle starting briskly: the committed accelerometer bias bends by 0.02 m/s^2 per frame.
+  // Its drift passes bias_drift_fast_factor x the limit (1.5 x 0.05) in the report of frame
+  // kBendFrame + 4 (0.08); the second such frame is evidence, 15 frames before the gentle path.
+  constexpr int kBendFrame = 230;
+  auto bend = [](int start, double per_frame, double plateau) {
+    return [=](int k) {
+      ImuBias b;
+      b.accel.z() = std::clamp(per_frame * (k - start), 0.0, plateau);
+      return b;
+    };
+  };
+  Scenario sc;
+  sc.points = staticPoints(80, 0, 11);
+  sc.committed_bias = bend(kBendFrame, 0.02, 1.0);
+  const conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
+  ASSERT_DOUBLE_EQ(o.bias_drift_fast_factor, 1.5);
+  ASSERT_EQ(o.bias_drift_fast_frames, 2);
+  const int total = kBendFrame + 40;
+  const auto frames = run(sc, o, total);
+  for (int k = 0; k < kBendFrame; ++k)
+    ASSERT_EQ(frames[k].decision.report.state, ConflictReport::State::kNone) << "frame " << k;
+  int crossed = -1;
+  for (int k = kBendFrame; k < total && crossed < 0; ++k)
+    if (frames[k].decision.report.accel_bias_drift >= 0.075) crossed = k;
+  ASSERT_GT(crossed, kBendFrame);
+  const int opened = firstFrame(frames, inConflict);
+  EXPECT_EQ(opened, crossed + o.bias_drift_fast_frames - 1 + o.enter_frames - 1);
+  EXPECT_TRUE(frames[opened].decision.imu_dominated) << "a whole-view conflict";
+  EXPECT_LT(opened, crossed + o.bias_drift_min_frames) << "earlier than the gentle path";
+
+  // Not for a bend that stays under 1.5 x the limit for fewer than bias_drift_min_frames, nor
+  // for a single frame over it.
+  sc.committed_bias = [&](int k) {
+    ImuBias b;
+    b.accel.z() = k >= kBendFrame && k < kBendFrame + o.bias_drift_min_frames - 1 ? 0.07 : 0.0;
+    return b;
+  };
+  for (const auto& f : run(sc, o, total)) EXPECT_FALSE(inConflict(f));
+  sc.committed_bias = [&](int k) {
+    ImuBias b;
+    b.accel.z() = k == kBendFrame ? 0.3 : 0.0;
+    return b;
+  };
+  for (const auto& f : run(sc, o, total)) EXPECT_FALSE(inConflict(f));
+  // Nor with too few landmarks in the test for a whole-view claim (an occluder filling the view):
+  // then the bend waits for the gentle path.
+  Scenario few = sc;
+  few.points = staticPoints(24, 0, 11);
+  few.committed_bias = bend(kBendFrame, 0.02, 1.0);
+  const auto occluded = run(few, o, total);
+  ASSERT_LT(occluded[kBendFrame + 5].decision.report.landmarks_tested, o.auto_min_tested_landmarks);
+  const int opened_few = firstFrame(occluded, inConflict);
+  EXPECT_TRUE(opened_few < 0 || opened_few >= kBendFrame + o.bias_drift_min_frames) << opened_few;
 }
 
 TEST(MotionConflictMonitor, ABiasBendWithAMovingGroupInViewIsLeftToTheOtherDetectors) {

@@ -166,6 +166,7 @@ class MotionConflictMonitor {
   bool drift_opened_ = false;  ///< the bias-drift detector opened the IMU-dominated interval
   bool speed_hold_engaged_ = false;  ///< the secondary speed has held the interval open
   int drift_frames_ = 0;             ///< consecutive frames with the bias drift over its limit
+  int fast_drift_frames_ = 0;        ///< ... and over bias_drift_fast_factor times it
   ConflictIntervalSmoother smoother_;
   double evidence_secondary_speed_ = 0;  ///< fastest along the peak while the detectors had evidence
   Eigen::Vector3d peak_secondary_velocity_ = Eigen::Vector3d::Zero();  ///< fastest in this IMU-dominated interval
