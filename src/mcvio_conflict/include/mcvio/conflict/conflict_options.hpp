@@ -111,10 +111,11 @@ struct ConflictOptions {
   /// Consecutive frames over the limit before the drift is evidence. A ride the horizon's tests
   /// can see has opened its interval by then; a slow object's pull bends the bias for a moment.
   int bias_drift_min_frames = 20;
-  /// A bend this many times the limit is evidence after `bias_drift_fast_frames` frames (0: off):
-  /// a cabin or vehicle starting briskly bends the bias past twice the limit before the horizon's
-  /// tests fire (feature level: 0.10 m/s^2 reached 0.15-0.45 s before them), while a slow
-  /// object's pull stays under 0.06 m/s^2 and clean runs under 0.03.
+  /// A bend this many times the limit is evidence after `bias_drift_fast_frames` frames (0: off),
+  /// when at least auto_min_tested_landmarks were tested: a cabin or vehicle starting briskly
+  /// bends the bias that far before the horizon's tests fire (feature level: 0.075 m/s^2 reached
+  /// 0.15-0.7 s before them), while a slow object's pull stays under 0.06 m/s^2 and clean runs
+  /// under 0.03.
   double bias_drift_fast_factor = 1.5;
   int bias_drift_fast_frames = 2;
   int enter_frames = 2;                ///< consecutive frames with evidence to open an interval
