@@ -166,8 +166,9 @@ DetectorLog DetectorLog::load(const std::string& path) {
     };
     // "nan": a frame the detectors could not test.
     if (c_score >= 0 && csv.field(static_cast<std::size_t>(c_score)) != "nan") {
-      r.evidence_score = csv.doubleAt(static_cast<std::size_t>(c_score), "evidence_score");
-      if (r.evidence_score < 0) csv.fail("column 'evidence_score': " + std::string(csv.field(static_cast<std::size_t>(c_score))) + " is negative");
+      const auto i = static_cast<std::size_t>(c_score);
+      r.evidence_score = csv.doubleAt(i, "evidence_score");
+      if (r.evidence_score < 0) csv.fail("column 'evidence_score': " + std::string(csv.field(i)) + " is negative");
     }
     stamp(c_onset, "interval_onset_ns", r.interval_onset);
     stamp(c_end, "interval_end_ns", r.interval_end);

@@ -11,10 +11,11 @@ namespace mcvio::evaluation {
 ///   timestamp_ns,state,propagated_chi2,propagated_threshold,landmarks_tested,
 ///   landmarks_inconsistent,inconsistent_fraction,coherence,interval_start_ns,resolution_mode,
 ///   interval_onset_ns,interval_end_ns
-/// (then frontend_checked,frontend_inconsistent,accel_bias_drift,split_chi2,evidence_score, which
-/// no metric here uses). The header line (with or without a leading '#') says which columns are
-/// present and in which order; only timestamp_ns and state are required, unknown columns are
-/// ignored. Without a header the twelve columns above are assumed.
+/// then frontend_checked,frontend_inconsistent,accel_bias_drift,split_chi2 (which no metric here
+/// uses) and evidence_score (its own ROC and plot; `nan` on a frame nothing could test). The
+/// header line (with or without a leading '#') says which columns are present and in which order;
+/// only timestamp_ns and state are required, unknown columns are ignored. Without a header the
+/// twelve columns above are assumed.
 class DetectorLog {
  public:
   DetectorLog() = default;
