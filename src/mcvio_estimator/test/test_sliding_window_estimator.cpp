@@ -350,8 +350,10 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_DOUBLE_EQ(c.bias_drift_sigmas, dc.bias_drift_sigmas);
   EXPECT_EQ(c.bias_drift_arm_frames, dc.bias_drift_arm_frames);
   EXPECT_EQ(c.bias_drift_min_frames, dc.bias_drift_min_frames);
+  EXPECT_DOUBLE_EQ(c.bias_drift_fast_factor, dc.bias_drift_fast_factor);
+  EXPECT_EQ(c.bias_drift_fast_frames, dc.bias_drift_fast_frames);
   EXPECT_DOUBLE_EQ(c.split_chi2_threshold, dc.split_chi2_threshold);
-  EXPECT_EQ(root["conflict"].size(), 52u) << "every conflict option appears once";
+  EXPECT_EQ(root["conflict"].size(), 54u) << "every conflict option appears once";
 }
 
 }  // namespace
