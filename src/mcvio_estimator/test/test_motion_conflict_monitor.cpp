@@ -220,6 +220,15 @@ constexpr int kFramesAfterCabin = 40;
 /// threshold 4 frames later (0.2 s, about 4 cm), the interval opens on the next.
 constexpr int kMaxCabinEntryDelay = 6;
 
+/// The committed accelerometer bias (z) ramping by `per_frame` from frame `start` up to `plateau`.
+std::function<ImuBias(int)> accelBiasRamp(int start, double per_frame, double plateau) {
+  return [=](int k) {
+    ImuBias b;
+    b.accel.z() = std::clamp(per_frame * (k - start), 0.0, plateau);
+    return b;
+  };
+}
+
 Scenario cabin(int points, int cabin_frame) {
   Scenario sc;
   sc.traj.pulse_start_s = frameSeconds(cabin_frame);
@@ -605,16 +614,9 @@ TEST(MotionConflictMonitor, AnAccelerometerBiasBentPastItsLimitIsEvidence) {
   // 2.5 x 0.02 m/s^2 in the report of frame kRampFrame + 13 (0.054) and is evidence from the
   // bias_drift_min_frames-th such frame on.
   constexpr int kRampFrame = 230;  // after the detector arms (bias_drift_arm_frames 200)
-  auto ramp = [](int start, double plateau) {
-    return [start, plateau](int k) {
-      ImuBias b;
-      b.accel.z() = std::clamp(0.0045 * (k - start), 0.0, plateau);
-      return b;
-    };
-  };
   Scenario sc;
   sc.points = staticPoints(80, 0, 11);
-  sc.committed_bias = ramp(kRampFrame, 1.0);
+  sc.committed_bias = accelBiasRamp(kRampFrame, 0.0045, 1.0);
   conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
   o.bias_drift_fast_factor = 0;  // the gentle path alone (the brisk one: next test)
   ASSERT_DOUBLE_EQ(o.bias_drift_sigmas, 2.5);
@@ -634,7 +636,7 @@ TEST(MotionConflictMonitor, AnAccelerometerBiasBentPastItsLimitIsEvidence) {
   off.bias_drift_sigmas = 0;
   for (const auto& f : run(sc, off, total)) EXPECT_FALSE(inConflict(f));
   // Nothing for a bend within the limit, one over it for too few frames, nor before the arming.
-  sc.committed_bias = ramp(kRampFrame, 0.045);
+  sc.committed_bias = accelBiasRamp(kRampFrame, 0.0045, 0.045);
   for (const auto& f : run(sc, o, total)) EXPECT_FALSE(inConflict(f));
   sc.committed_bias = [&](int k) {
     ImuBias b;
@@ -642,7 +644,7 @@ TEST(MotionConflictMonitor, AnAccelerometerBiasBentPastItsLimitIsEvidence) {
     return b;
   };
   for (const auto& f : run(sc, o, total)) EXPECT_FALSE(inConflict(f));
-  sc.committed_bias = ramp(100, 1.0);
+  sc.committed_bias = accelBiasRamp(100, 0.0045, 1.0);
   const auto early = run(sc, o, 200);
   for (const auto& f : early) EXPECT_FALSE(inConflict(f));
 }
@@ -652,16 +654,9 @@ TEST(MotionConflictMonitor, ABriskBiasBendIsEvidenceWithinTwoFrames) {
   // Its drift passes bias_drift_fast_factor x the limit (1.5 x 0.05) in the report of frame
   // kBendFrame + 4 (0.08); the second such frame is evidence, 15 frames before the gentle path.
   constexpr int kBendFrame = 230;
-  auto bend = [](int start, double per_frame, double plateau) {
-    return [=](int k) {
-      ImuBias b;
-      b.accel.z() = std::clamp(per_frame * (k - start), 0.0, plateau);
-      return b;
-    };
-  };
   Scenario sc;
   sc.points = staticPoints(80, 0, 11);
-  sc.committed_bias = bend(kBendFrame, 0.02, 1.0);
+  sc.committed_bias = accelBiasRamp(kBendFrame, 0.02, 1.0);
   const conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
   ASSERT_DOUBLE_EQ(o.bias_drift_fast_factor, 1.5);
   ASSERT_EQ(o.bias_drift_fast_frames, 2);
@@ -696,7 +691,7 @@ TEST(MotionConflictMonitor, ABriskBiasBendIsEvidenceWithinTwoFrames) {
   // then the bend waits for the gentle path.
   Scenario few = sc;
   few.points = staticPoints(24, 0, 11);
-  few.committed_bias = bend(kBendFrame, 0.02, 1.0);
+  few.committed_bias = accelBiasRamp(kBendFrame, 0.02, 1.0);
   const auto occluded = run(few, o, total);
   ASSERT_LT(occluded[kBendFrame + 5].decision.report.landmarks_tested, o.auto_min_tested_landmarks);
   const int opened_few = firstFrame(occluded, inConflict);
@@ -717,11 +712,7 @@ TEST(MotionConflictMonitor, ABiasBendWithAMovingGroupInViewIsLeftToTheOtherDetec
   }
   sc.points.insert(sc.points.end(), group.begin(), group.end());
   sc.frontend_labels = true;
-  sc.committed_bias = [](int k) {
-    ImuBias b;
-    b.accel.z() = std::clamp(0.0045 * (k - kRampFrame), 0.0, 1.0);
-    return b;
-  };
+  sc.committed_bias = accelBiasRamp(kRampFrame, 0.0045, 1.0);
   const auto frames = run(sc, withMode(conflict::ResolutionMode::kAuto), kRampFrame + 60);
   for (int k = kRampFrame; k < kRampFrame + 60; ++k) {
     EXPECT_EQ(frames[k].decision.report.accel_bias_drift, 0.0) << "frame " << k;

@@ -78,7 +78,7 @@ DetectionResult evaluateDetection(const DetectorLog& log, const ConflictLabelTim
   options.validate();
   DetectionResult r;
   std::vector<bool> label_seen(labels.labels().size(), false);
-  std::vector<double> ratio_scores, fraction_scores, evidence_scores;
+  std::vector<double> ratio_scores, fraction_scores;
   r.has_hindsight = log.hasHindsightIntervals();
   const auto intervals = r.has_hindsight ? log.hindsightIntervals() : std::vector<std::pair<Timestamp, Timestamp>>{};
   const auto inInterval = [&](Timestamp t) {
@@ -114,7 +114,6 @@ DetectionResult evaluateDetection(const DetectorLog& log, const ConflictLabelTim
     r.evidence.push_back(row.evidence_score);
     ratio_scores.push_back(row.propagatedRatio());
     fraction_scores.push_back(row.inconsistent_fraction);
-    evidence_scores.push_back(row.evidence_score);
   }
   r.labels_without_row = static_cast<std::size_t>(std::count(label_seen.begin(), label_seen.end(), false));
   if (log.hasColumn("propagated_chi2")) {
@@ -124,7 +123,7 @@ DetectionResult evaluateDetection(const DetectorLog& log, const ConflictLabelTim
     r.roc.push_back(computeRoc(fraction_scores, r.labelled, "inconsistent_fraction"));
   }
   if (log.hasColumn("evidence_score")) {
-    r.roc.push_back(computeRoc(evidence_scores, r.labelled, "evidence_score"));
+    r.roc.push_back(computeRoc(r.evidence, r.labelled, "evidence_score"));
   }
   return r;
 }
