@@ -279,6 +279,32 @@ TEST(Recovery, DamagedChunkKeepsEveryIntactChunkAfterIt) {
   }
 }
 
+/// A flipped byte inside a chunk of a finished file (summary and footer intact): reindex must
+/// not call it intact; it drops that chunk only, and the bag plays again.
+TEST(Recovery, BadChunkCrcBehindAnIntactSummaryIsRepaired) {
+  const auto dir = test::freshPath("bad_crc");
+  const auto file = writeChunkedBag(dir, Compression::Zstd);
+  const auto chunks = McapReader(file).chunks();
+  const auto& bad = chunks[4];
+  std::set<int> expected;
+  for (int i = 0; i < 120; ++i) expected.insert(i);
+  for (int i : messagesOf(bad)) expected.erase(i);
+  flipByte(file, bad.records_offset + 10);
+  std::vector<std::string> log;
+  std::vector<std::string> damage;
+  const BagMetadata md = BagReindexer::reindex(dir, &log, &damage);
+  ASSERT_FALSE(log.empty());
+  EXPECT_EQ(log[0].find("intact"), std::string::npos) << log[0];
+  EXPECT_EQ(damage.size(), 1u);
+  EXPECT_EQ(md.message_count, expected.size());
+  expectMessages(test::readAll(dir), expected);
+  // A second reindex finds the repaired file intact and keeps it as it is.
+  std::vector<std::string> again;
+  BagReindexer::reindex(dir, &again);
+  ASSERT_FALSE(again.empty());
+  EXPECT_NE(again[0].find("intact"), std::string::npos) << again[0];
+}
+
 /// Many flipped bytes anywhere but the footer: reindex never throws, keeps every message of
 /// every chunk it did not report as damaged, and each kept message is exactly as written.
 TEST(Recovery, ManyRandomFlipsKeepEveryUndamagedChunk) {
