@@ -73,6 +73,14 @@ void BagReader::openFiles(const std::vector<std::filesystem::path>& files,
     }
     files_.push_back(std::move(r));
   }
+  for (const auto& m : metadata_.topics_with_message_count) {
+    for (const auto& t : topics_) {
+      if (t.name == m.topic.name && !t.type.empty() && t.type != m.topic.type) {
+        warnings_.push_back("topic " + t.name + ": metadata.yaml says " + m.topic.type +
+                            ", the storage's schema says " + t.type + " (the schema is used)");
+      }
+    }
+  }
   heads_.resize(files_.size());
   has_head_.assign(files_.size(), false);
   for (std::size_t i = 0; i < files_.size(); ++i) has_head_[i] = files_[i]->next(heads_[i]);

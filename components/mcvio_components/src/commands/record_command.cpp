@@ -74,9 +74,18 @@ void addBagCommand(CLI::App& app, CommandContext&) {
                                         "Examples:\n  mcvio bag info /tmp/run\n  mcvio bag reindex /tmp/run");
   cmd->require_subcommand(1);
   auto path = std::make_shared<std::string>();
-  auto* info = cmd->add_subcommand("info", "Files, duration, message counts and topics of a bag, like `ros2 bag info`.");
-  info->add_option("bag", *path, "bag directory (or .mcap / .db3 file)")->required();
-  info->callback([path] { std::cout << bag::bagInfo(*path); });
+  auto* info = cmd->add_subcommand("info", "Files, duration, message counts and topics of a bag, like `ros2 bag info`.\n"
+                                                  "Each storage file is opened and checked against metadata.yaml; disagreements\n"
+                                                  "are WARNING lines and exit status 1.");
+  info->add_option("bag", *path, "bag directory (or a single .mcap / .db3 file, described from its own summary)")->required();
+  info->callback([path] {
+    std::vector<std::string> warnings;
+    std::cout << bag::bagInfo(*path, &warnings);
+    for (const auto& w : warnings) std::cerr << "mcvio bag info: WARNING: " << w << "\n";
+    if (!warnings.empty()) {
+      throw CommandExit{1, "bag info: metadata.yaml and the storage files disagree or a file is unreadable (see WARNING lines)"};
+    }
+  });
   auto* reindex = cmd->add_subcommand(
       "reindex",
       "Rebuild metadata.yaml and the MCAP summary/indexes of a bag whose recorder was killed or whose\n"

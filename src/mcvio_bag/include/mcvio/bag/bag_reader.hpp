@@ -40,6 +40,9 @@ class BagReader {
   std::optional<BagMessage> next();
   /// Counts and time range gathered from the storage files themselves.
   FileStatistics statistics() const;
+  /// Disagreements between metadata.yaml and the storage files that do not stop reading
+  /// (a topic's type differs from its schema), one line each naming the topic and both types.
+  const std::vector<std::string>& warnings() const { return warnings_; }
 
  private:
   void openFiles(const std::vector<std::filesystem::path>& files, const BagReaderOptions& o);
@@ -49,6 +52,7 @@ class BagReader {
   std::vector<std::unique_ptr<StorageFileReader>> files_;
   std::vector<BagMessage> heads_;
   std::vector<bool> has_head_;
+  std::vector<std::string> warnings_;
 };
 
 }  // namespace mcvio::bag
