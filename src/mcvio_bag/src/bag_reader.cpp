@@ -47,6 +47,20 @@ BagReader::BagReader(const std::filesystem::path& bag, BagReaderOptions options)
 
 BagReader::~BagReader() = default;
 
+bool BagReader::looksLikeBag(const std::filesystem::path& path) {
+  const auto isStorage = [](const std::filesystem::path& p) {
+    return p.extension() == ".mcap" || p.extension() == ".db3";
+  };
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(path, ec)) return isStorage(path);
+  if (!std::filesystem::is_directory(path, ec)) return false;
+  if (std::filesystem::exists(path / kMetadataFileName, ec)) return true;
+  for (const auto& e : std::filesystem::directory_iterator(path, ec)) {
+    if (e.is_regular_file(ec) && isStorage(e.path())) return true;
+  }
+  return false;
+}
+
 void BagReader::openFiles(const std::vector<std::filesystem::path>& files,
                           const BagReaderOptions& o) {
   Compression message_compression = Compression::None;
@@ -72,6 +86,7 @@ void BagReader::openFiles(const std::vector<std::filesystem::path>& files,
       if (seen.insert(t.name).second) topics_.push_back(t);
     }
     files_.push_back(std::move(r));
+    paths_.push_back(p);
   }
   for (const auto& m : metadata_.topics_with_message_count) {
     for (const auto& t : topics_) {
@@ -95,6 +110,7 @@ bool BagReader::next(BagMessage& out) {
   }
   if (best == files_.size()) return false;
   std::swap(out, heads_[best]);
+  last_file_ = best;
   has_head_[best] = files_[best]->next(heads_[best]);
   return true;
 }
@@ -103,6 +119,12 @@ std::optional<BagMessage> BagReader::next() {
   BagMessage m;
   if (!next(m)) return std::nullopt;
   return m;
+}
+
+std::string BagReader::where(const BagMessage& m) const {
+  const std::string file = last_file_ < paths_.size() ? paths_[last_file_].string() : "bag";
+  return file + ": topic " + m.topic + ", message at log time " + std::to_string(m.log_time) +
+         " ns";
 }
 
 FileStatistics BagReader::statistics() const {

@@ -327,3 +327,36 @@ TEST(BagInfoChecks, SingleMcapFileIsDescribedFromItsSummary) {
 
 }  // namespace
 }  // namespace mcvio::bag
+
+namespace mcvio::bag {
+namespace {
+
+/// A bag folder whose metadata.yaml is lost is still a bag (play/run used to call it "not a
+/// EuRoC folder"); reading it names metadata.yaml and `mcvio bag reindex`.
+TEST(BagFolder, WithoutMetadataIsABagThatNeedsReindex) {
+  const auto dir = smallBag("no_metadata_folder", "mcap");
+  std::filesystem::remove(dir / kMetadataFileName);
+  EXPECT_TRUE(BagReader::looksLikeBag(dir));
+  expectInputError([&] { BagReader r(dir); },
+                   {"metadata.yaml", "mcvio bag reindex " + dir.string()});
+  const auto plain = test::freshPath("plain_folder");
+  std::filesystem::create_directories(plain / "mav0");
+  EXPECT_FALSE(BagReader::looksLikeBag(plain));
+}
+
+/// Decode errors of a bag message must name the storage file, topic and log time.
+TEST(BagFolder, WhereNamesFileTopicAndTime) {
+  const auto dir = smallBag("where_bag", "mcap");
+  const auto file = dir / readBagMetadata(dir).relative_file_paths.at(0);
+  BagReader r(dir);
+  BagMessage m;
+  ASSERT_TRUE(r.next(m));
+  ASSERT_TRUE(r.next(m));
+  const std::string w = r.where(m);
+  EXPECT_NE(w.find(file.string()), std::string::npos) << w;
+  EXPECT_NE(w.find("topic /a"), std::string::npos) << w;
+  EXPECT_NE(w.find("log time 1001 ns"), std::string::npos) << w;
+}
+
+}  // namespace
+}  // namespace mcvio::bag
