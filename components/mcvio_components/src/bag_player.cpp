@@ -1,6 +1,7 @@
 #include "mcvio/components/bag_player.hpp"
 
 #include <chrono>
+#include <iostream>
 #include <map>
 #include <thread>
 
@@ -28,6 +29,7 @@ PlaybackSummary BagPlayer::run() {
   std::map<std::string, std::unique_ptr<dds::GenericPublisher>> pubs;
   {
     bag::BagReader probe(bag_, ro);
+    for (const auto& w : probe.warnings()) std::cerr << "mcvio play: warning: " << bag_ << ": " << w << "\n";
     for (const auto& t : probe.topics()) {
       if (!topic_filter_.empty() && std::find(topic_filter_.begin(), topic_filter_.end(), t.name) == topic_filter_.end()) continue;
       dds::QosProfile q = dds::QosProfile::defaults();

@@ -2,7 +2,13 @@
 
 #include <ctime>
 #include <iomanip>
+#include <map>
+#include <memory>
 #include <sstream>
+
+#include "mcvio/bag/mcap_reader.hpp"
+#include "mcvio/bag/sqlite_reader.hpp"
+#include "mcvio/core/input_error.hpp"
 
 namespace mcvio::bag {
 
@@ -85,13 +91,98 @@ std::string formatBagInfo(const BagMetadata& m, std::uint64_t bag_size_bytes) {
   return os.str();
 }
 
-std::string bagInfo(const std::filesystem::path& bag_dir) {
-  const BagMetadata m = readBagMetadata(bag_dir);
+namespace {
+
+/// Opens one storage file by its extension (summary only for MCAP: fast on big files).
+std::unique_ptr<StorageFileReader> openStorageFile(const std::filesystem::path& p) {
+  if (p.extension() == ".db3") return std::make_unique<SqliteReader>(p);
+  return std::make_unique<McapReader>(p, McapReadMode::Strict);
+}
+
+/// What one storage file holds, as metadata.yaml would describe it.
+BagMetadata describeFile(const std::filesystem::path& p, const StorageFileReader& r) {
+  BagMetadata m;
+  m.storage_identifier = p.extension() == ".db3" ? "sqlite3" : "mcap";
+  m.relative_file_paths.push_back(p.filename().string());
+  const FileStatistics s = r.statistics();
+  for (const auto& t : r.topics()) {
+    TopicInformation ti;
+    ti.topic = t;
+    ti.topic.message_definition.clear();
+    const auto it = s.topic_message_counts.find(t.name);
+    ti.message_count = it == s.topic_message_counts.end() ? 0 : it->second;
+    m.topics_with_message_count.push_back(std::move(ti));
+  }
+  m.message_count = s.message_count;
+  m.starting_time = s.start_time;
+  m.duration = s.end_time - s.start_time;
+  return m;
+}
+
+}  // namespace
+
+std::string bagInfo(const std::filesystem::path& bag, std::vector<std::string>* warnings) {
+  std::vector<std::string> ignored;
+  auto& warn = warnings ? *warnings : ignored;
+  if (std::filesystem::is_regular_file(bag)) {
+    if (bag.extension() != ".mcap" && bag.extension() != ".db3") {
+      throw InputError(bag.string() + ": unknown storage (expected a bag directory, .mcap or .db3)");
+    }
+    const auto r = openStorageFile(bag);
+    return formatBagInfo(describeFile(bag, *r), std::filesystem::file_size(bag));
+  }
+  const BagMetadata m = readBagMetadata(bag);
+  const std::string md = (bag / kMetadataFileName).string();
+  if (m.version > 9) warn.push_back(md + ": version " + std::to_string(m.version) + " is newer than the known 5..9");
+  if (m.duration < 0) warn.push_back(md + ": negative duration " + std::to_string(m.duration) + " ns");
+  for (const auto& t : m.topics_with_message_count) {
+    if (t.topic.serialization_format != "cdr") {
+      warn.push_back(md + ": topic " + t.topic.name + ": unknown serialization_format '" +
+                     t.topic.serialization_format + "' (expected cdr)");
+    }
+  }
   std::uint64_t size = 0;
+  std::uint64_t stored_messages = 0;
+  std::map<std::string, std::uint64_t> stored_counts;
+  std::map<std::string, std::string> stored_types;
+  bool all_read = true;
   for (const auto& rel : m.relative_file_paths) {
+    const auto p = bag / rel;
     std::error_code ec;
-    const auto s = std::filesystem::file_size(bag_dir / rel, ec);
-    if (!ec) size += s;
+    const auto s = std::filesystem::file_size(p, ec);
+    if (ec) {
+      warn.push_back(p.string() + ": listed in metadata.yaml but missing");
+      all_read = false;
+      continue;
+    }
+    size += s;
+    try {
+      const auto r = openStorageFile(p);
+      const FileStatistics st = r->statistics();
+      stored_messages += st.message_count;
+      for (const auto& [t, n] : st.topic_message_counts) stored_counts[t] += n;
+      for (const auto& t : r->topics()) stored_types.emplace(t.name, t.type);
+    } catch (const std::exception& e) {
+      warn.push_back(std::string(e.what()) + " (see `mcvio bag reindex " + bag.string() + "`)");
+      all_read = false;
+    }
+  }
+  for (const auto& t : m.topics_with_message_count) {
+    const auto it = stored_types.find(t.topic.name);
+    if (it != stored_types.end() && !it->second.empty() && it->second != t.topic.type) {
+      warn.push_back(md + ": topic " + t.topic.name + " has type " + t.topic.type +
+                     " but the storage's schema is " + it->second);
+    }
+    if (all_read && (stored_counts.count(t.topic.name) ? stored_counts[t.topic.name] : 0) !=
+                        t.message_count) {
+      warn.push_back(md + ": topic " + t.topic.name + " has " + std::to_string(t.message_count) +
+                     " messages but the storage files hold " +
+                     std::to_string(stored_counts[t.topic.name]));
+    }
+  }
+  if (all_read && stored_messages != m.message_count) {
+    warn.push_back(md + ": message_count is " + std::to_string(m.message_count) +
+                   " but the storage files hold " + std::to_string(stored_messages));
   }
   return formatBagInfo(m, size);
 }

@@ -207,7 +207,10 @@ BagMetadata parseMetadata(const std::string& yaml, const std::string& source) {
 BagMetadata readBagMetadata(const std::filesystem::path& bag_dir) {
   const auto path = bag_dir / kMetadataFileName;
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string() + ": missing metadata.yaml (run `mcvio bag reindex`)");
+  if (!in) {
+    throw InputError(path.string() + ": missing metadata.yaml (`mcvio bag reindex " +
+                     bag_dir.string() + "` rebuilds it from the .mcap/.db3 files)");
+  }
   std::ostringstream ss;
   ss << in.rdbuf();
   return bagMetadataFromYaml(ss.str(), path.string());

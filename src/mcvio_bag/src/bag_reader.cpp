@@ -47,6 +47,20 @@ BagReader::BagReader(const std::filesystem::path& bag, BagReaderOptions options)
 
 BagReader::~BagReader() = default;
 
+bool BagReader::looksLikeBag(const std::filesystem::path& path) {
+  const auto isStorage = [](const std::filesystem::path& p) {
+    return p.extension() == ".mcap" || p.extension() == ".db3";
+  };
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(path, ec)) return isStorage(path);
+  if (!std::filesystem::is_directory(path, ec)) return false;
+  if (std::filesystem::exists(path / kMetadataFileName, ec)) return true;
+  for (const auto& e : std::filesystem::directory_iterator(path, ec)) {
+    if (e.is_regular_file(ec) && isStorage(e.path())) return true;
+  }
+  return false;
+}
+
 void BagReader::openFiles(const std::vector<std::filesystem::path>& files,
                           const BagReaderOptions& o) {
   Compression message_compression = Compression::None;
@@ -72,6 +86,15 @@ void BagReader::openFiles(const std::vector<std::filesystem::path>& files,
       if (seen.insert(t.name).second) topics_.push_back(t);
     }
     files_.push_back(std::move(r));
+    paths_.push_back(p);
+  }
+  for (const auto& m : metadata_.topics_with_message_count) {
+    for (const auto& t : topics_) {
+      if (t.name == m.topic.name && !t.type.empty() && t.type != m.topic.type) {
+        warnings_.push_back("topic " + t.name + ": metadata.yaml says " + m.topic.type +
+                            ", the storage's schema says " + t.type + " (the schema is used)");
+      }
+    }
   }
   heads_.resize(files_.size());
   has_head_.assign(files_.size(), false);
@@ -87,6 +110,7 @@ bool BagReader::next(BagMessage& out) {
   }
   if (best == files_.size()) return false;
   std::swap(out, heads_[best]);
+  last_file_ = best;
   has_head_[best] = files_[best]->next(heads_[best]);
   return true;
 }
@@ -95,6 +119,12 @@ std::optional<BagMessage> BagReader::next() {
   BagMessage m;
   if (!next(m)) return std::nullopt;
   return m;
+}
+
+std::string BagReader::where(const BagMessage& m) const {
+  const std::string file = last_file_ < paths_.size() ? paths_[last_file_].string() : "bag";
+  return file + ": topic " + m.topic + ", message at log time " + std::to_string(m.log_time) +
+         " ns";
 }
 
 FileStatistics BagReader::statistics() const {

@@ -29,7 +29,8 @@ long splitIndex(const std::filesystem::path& p) {
 }  // namespace
 
 BagMetadata BagReindexer::reindex(const std::filesystem::path& bag_dir,
-                                  std::vector<std::string>* log) {
+                                  std::vector<std::string>* log,
+                                  std::vector<std::string>* damage) {
   if (!std::filesystem::is_directory(bag_dir)) {
     throw InputError(bag_dir.string() + ": not a bag directory");
   }
@@ -80,14 +81,33 @@ BagMetadata BagReindexer::reindex(const std::filesystem::path& bag_dir,
     std::unique_ptr<StorageFileReader> reader;
     if (m.storage_identifier == "mcap") {
       const McapRepairReport rep = McapRepairer::repair(path);
+      const std::string file = path.filename().string();
       if (log) {
-        log->push_back(path.filename().string() +
+        log->push_back(file +
                        (rep.was_complete
                             ? ": intact"
                             : ": repaired, kept " + std::to_string(rep.kept_bytes) +
                                   " bytes, dropped " + std::to_string(rep.dropped_bytes)) +
                        ", " + std::to_string(rep.chunks) + " chunks, " +
                        std::to_string(rep.messages) + " messages");
+      }
+      for (const auto& d : rep.damage) {
+        const std::string lost =
+            d.messages_lost < 0 ? "messages lost unknown"
+                                : std::to_string(d.messages_lost) + " messages lost";
+        const std::string where = " at byte offset " + std::to_string(d.offset) + " (" +
+                                  std::to_string(d.size) + " bytes, " + lost + ")";
+        if (d.unfinished_tail) {
+          if (log) {
+            log->push_back(file + ": WARNING: dropped the unfinished record at the end" + where +
+                           ": " + d.reason);
+          }
+        } else if (damage) {
+          damage->push_back(file + ": dropped damaged data" + where + ": " + d.reason);
+        }
+      }
+      if (log && !rep.original.empty()) {
+        log->push_back(file + ": original kept unchanged as " + rep.original.string());
       }
       reader = std::make_unique<McapReader>(path, McapReadMode::Strict);
     } else {

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <map>
 #include <sstream>
 
 #include "byte_io.hpp"
@@ -103,6 +104,7 @@ void McapReader::load(McapReadMode mode) {
                           data_[size_ - mcap::kFooterAndMagic] == mcap::kFooter &&
                           readU64(data_ + size_ - mcap::kFooterAndMagic + 1) == 20;
   if (mode == McapReadMode::Recover) {
+    if (has_footer) preloadSummaryDefinitions();
     linearScan(mode, size_);
   } else {
     if (!has_footer) {
@@ -211,7 +213,10 @@ void McapReader::parseChunkRecord(std::uint64_t pos, mcap::ChunkInfo& info) cons
 }
 
 void McapReader::decompressChunk(std::uint32_t chunk_no, std::vector<std::uint8_t>& out) const {
-  const mcap::ChunkInfo& c = chunks_[chunk_no];
+  decompress(chunks_[chunk_no], out);
+}
+
+void McapReader::decompress(const mcap::ChunkInfo& c, std::vector<std::uint8_t>& out) const {
   try {
     Codec::decompress(compressionFromString(c.compression), data_ + c.records_offset,
                       c.compressed_size, c.uncompressed_size, out);
@@ -254,6 +259,134 @@ void McapReader::scanChunkRecords(std::uint32_t chunk_no, const std::vector<std:
   }
 }
 
+bool McapReader::channelDeclared(std::uint16_t id) const {
+  return std::any_of(channels_.begin(), channels_.end(), [&](const auto& c) { return c.id == id; });
+}
+
+void McapReader::acceptChunk(std::uint64_t pos, std::uint64_t len, bool strict,
+                             std::vector<std::uint8_t>& records) {
+  mcap::ChunkInfo info;
+  parseChunkRecord(pos, info);
+  if (!strict && info.records_offset + info.compressed_size != pos + mcap::kRecordPrefix + len) {
+    fail(pos, "Chunk record length disagrees with its compressed size");
+  }
+  chunks_.push_back(info);
+  chunk_index_complete_.push_back(false);
+  const auto no = static_cast<std::uint32_t>(chunks_.size() - 1);
+  const std::size_t entries_before = entries_.size();
+  const std::size_t schemas_before = schemas_.size();
+  const std::size_t channels_before = channels_.size();
+  try {
+    decompressChunk(no, records);
+    scanChunkRecords(no, records, true);
+    if (!strict) {
+      // A chunk whose Channel record is lost cannot be read back; drop it as damaged.
+      for (const auto& [ch, e] : chunks_.back().message_index) {
+        if (!channelDeclared(ch)) {
+          fail(pos, "Chunk holds messages on channel " + std::to_string(ch) +
+                        " whose Channel record is lost");
+        }
+      }
+    }
+  } catch (const InputError&) {
+    chunks_.pop_back();
+    chunk_index_complete_.pop_back();
+    entries_.resize(entries_before);
+    schemas_.resize(schemas_before);
+    channels_.resize(channels_before);
+    throw;
+  }
+}
+
+void McapReader::preloadSummaryDefinitions() {
+  // Recover mode: an intact summary holds a copy of every Schema and Channel record.
+  const std::uint64_t footer_pos = size_ - mcap::kFooterAndMagic;
+  const std::uint8_t* f = data_ + footer_pos + mcap::kRecordPrefix;
+  const std::uint64_t start = readU64(f);
+  const std::uint64_t offsets = readU64(f + 8);
+  std::uint32_t crc;
+  std::memcpy(&crc, f + 16, 4);
+  if (start < 8 + mcap::kRecordPrefix || start > footer_pos) return;
+  const std::uint64_t crc_end = footer_pos + mcap::kRecordPrefix + 16;
+  if (crc != 0 && Crc32::update(0, data_ + start, crc_end - start) != crc) return;
+  const std::uint64_t end = offsets >= start && offsets <= footer_pos && offsets != 0 ? offsets
+                                                                                      : footer_pos;
+  try {
+    for (std::uint64_t pos = start; pos < end;) {
+      if (end - pos < mcap::kRecordPrefix) break;
+      const std::uint64_t len = readU64(data_ + pos + 1);
+      if (len > end - pos - mcap::kRecordPrefix) break;
+      const std::uint8_t* body = data_ + pos + mcap::kRecordPrefix;
+      if (data_[pos] == mcap::kSchema) addSchema(pos, body, len);
+      if (data_[pos] == mcap::kChannel) addChannel(pos, body, len);
+      pos += mcap::kRecordPrefix + len;
+    }
+  } catch (const std::exception&) {
+    schemas_.clear();  // not trustworthy: rely on the data section alone
+    channels_.clear();
+  }
+}
+
+std::int64_t McapReader::messagesIndexedAfter(std::uint64_t pos, std::uint64_t limit) const {
+  // The Message Index records after a chunk count its messages, even when the chunk is damaged.
+  if (limit - pos < mcap::kRecordPrefix || data_[pos] != mcap::kChunk) return -1;
+  const std::uint64_t len = readU64(data_ + pos + 1);
+  if (len > limit - pos - mcap::kRecordPrefix) return -1;
+  std::uint64_t q = pos + mcap::kRecordPrefix + len;
+  std::int64_t n = -1;
+  while (limit - q >= mcap::kRecordPrefix + 6 && data_[q] == mcap::kMessageIndex) {
+    const std::uint64_t l = readU64(data_ + q + 1);
+    if (l > limit - q - mcap::kRecordPrefix || l < 6) break;
+    std::uint32_t bytes;
+    std::memcpy(&bytes, data_ + q + mcap::kRecordPrefix + 2, 4);
+    if (bytes % 16 != 0 || 6ull + bytes != l) break;
+    n = std::max<std::int64_t>(n, 0) + bytes / 16;
+    q += mcap::kRecordPrefix + l;
+  }
+  return n;
+}
+
+std::uint64_t McapReader::resync(std::uint64_t from, std::uint64_t limit) const {
+  // Candidates must prove themselves: a Chunk by decompressing to its CRC, Metadata by parsing
+  // exactly, Data End by its fixed length. Message Index records of a damaged chunk and bare
+  // Message records (no CRC) are never resync points.
+  std::vector<std::uint8_t> records;
+  for (std::uint64_t q = from; q < limit && limit - q >= mcap::kRecordPrefix; ++q) {
+    const std::uint8_t op = data_[q];
+    if (op != mcap::kChunk && op != mcap::kMetadata && op != mcap::kDataEnd) continue;
+    const std::uint64_t len = readU64(data_ + q + 1);
+    if (len > limit - q - mcap::kRecordPrefix) continue;
+    const std::uint8_t* body = data_ + q + mcap::kRecordPrefix;
+    try {
+      if (op == mcap::kDataEnd) {
+        if (len == 4) return q;
+      } else if (op == mcap::kMetadata) {
+        ByteReader r(body, len);
+        r.str("name");
+        r.stringMap("metadata");
+        if (r.done()) return q;
+      } else {
+        mcap::ChunkInfo info;
+        parseChunkRecord(q, info);
+        if (info.records_offset + info.compressed_size != q + mcap::kRecordPrefix + len) continue;
+        decompress(info, records);
+        if (info.uncompressed_crc != 0) return q;
+        // No CRC: at least every record inside must fit.
+        std::uint64_t p = 0;
+        while (p < records.size() && records.size() - p >= mcap::kRecordPrefix) {
+          const std::uint64_t l = readU64(records.data() + p + 1);
+          if (l > records.size() - p - mcap::kRecordPrefix) break;
+          p += mcap::kRecordPrefix + l;
+        }
+        if (p == records.size()) return q;
+      }
+    } catch (const std::exception&) {
+      // Not a record: keep looking.
+    }
+  }
+  return limit;
+}
+
 void McapReader::linearScan(McapReadMode mode, std::uint64_t limit) {
   const bool strict = mode == McapReadMode::Strict;
   std::uint64_t pos = 8;
@@ -266,19 +399,32 @@ void McapReader::linearScan(McapReadMode mode, std::uint64_t limit) {
     for (const auto& [ch, e] : chunks_.back().message_index) needed.insert(ch);
     chunk_index_complete_.back() = needed == indexed;
   };
+  // Recover: the record at `pos` is unusable; skip to the next record that proves intact.
+  auto skipDamage = [&](std::string why) {
+    const std::string prefix = name_ + ": ";
+    if (why.compare(0, prefix.size(), prefix) == 0) why.erase(0, prefix.size());
+    McapDamage d;
+    d.offset = pos;
+    d.reason = std::move(why);
+    d.messages_lost = messagesIndexedAfter(pos, limit);
+    const bool cut = limit - pos < mcap::kRecordPrefix ||
+                     readU64(data_ + pos + 1) > limit - pos - mcap::kRecordPrefix;
+    const std::uint64_t next = resync(pos + 1, limit);
+    d.size = next - pos;
+    d.unfinished_tail = cut && next == limit;
+    damage_.push_back(std::move(d));
+    pos = next;
+  };
   while (pos < limit) {
-    if (limit - pos < mcap::kRecordPrefix) {
-      if (strict) fail(pos, "truncated record");
-      break;
-    }
-    const std::uint8_t op = data_[pos];
-    const std::uint64_t len = readU64(data_ + pos + 1);
-    if (len > limit - pos - mcap::kRecordPrefix) {
-      if (strict) fail(pos, "truncated record (opcode " + std::to_string(op) + ")");
-      break;
-    }
-    const std::uint8_t* body = data_ + pos + mcap::kRecordPrefix;
+    std::uint64_t len = 0;
     try {
+      if (limit - pos < mcap::kRecordPrefix) fail(pos, "truncated record");
+      const std::uint8_t op = data_[pos];
+      len = readU64(data_ + pos + 1);
+      if (len > limit - pos - mcap::kRecordPrefix) {
+        fail(pos, "truncated record (opcode " + std::to_string(op) + ")");
+      }
+      const std::uint8_t* body = data_ + pos + mcap::kRecordPrefix;
       if (op == mcap::kHeader && pos != 8) {
         fail(pos, "second Header record");
       } else if (op == mcap::kSchema) {
@@ -289,36 +435,38 @@ void McapReader::linearScan(McapReadMode mode, std::uint64_t limit) {
         if (len < 22) fail(pos, "Message record is too short");
         std::uint16_t ch;
         std::memcpy(&ch, body, 2);
+        if (!strict && !channelDeclared(ch)) {
+          fail(pos, "Message on channel " + std::to_string(ch) + " whose Channel record is lost");
+        }
         entries_.push_back({readU64(body + 6), kNoChunk, ch, pos});
       } else if (op == mcap::kChunk) {
         closeChunkIndexes();
-        mcap::ChunkInfo info;
-        parseChunkRecord(pos, info);
-        chunks_.push_back(info);
-        chunk_index_complete_.push_back(false);
-        const auto no = static_cast<std::uint32_t>(chunks_.size() - 1);
-        const std::size_t entries_before = entries_.size();
-        const std::size_t schemas_before = schemas_.size();
-        const std::size_t channels_before = channels_.size();
-        try {
-          decompressChunk(no, records);
-          scanChunkRecords(no, records, true);
-        } catch (const InputError&) {
-          if (strict) throw;
-          // Recover: drop the damaged chunk and everything after it.
-          chunks_.pop_back();
-          chunk_index_complete_.pop_back();
-          entries_.resize(entries_before);
-          schemas_.resize(schemas_before);
-          channels_.resize(channels_before);
-          break;
-        }
+        acceptChunk(pos, len, strict, records);
         indexed.clear();
       } else if (op == mcap::kMessageIndex) {
         ByteReader r(body, len);
         const std::uint16_t ch = r.u16();
         ByteReader entries = r.sub32("records");
         if (entries.remaining() % 16 != 0) fail(pos, "Message Index entries are not 16-byte pairs");
+        if (!strict) {
+          // Kept only when it matches the chunk before it exactly (the repaired summary refers
+          // readers to it).
+          std::vector<std::pair<std::uint64_t, std::uint64_t>> got;
+          while (!entries.done()) {
+            const std::uint64_t t = entries.u64();
+            got.emplace_back(t, entries.u64());
+          }
+          decltype(got) want;
+          if (!chunks_.empty()) {
+            const auto it = chunks_.back().message_index.find(ch);
+            if (it != chunks_.back().message_index.end()) want = it->second;
+          }
+          std::sort(got.begin(), got.end());
+          std::sort(want.begin(), want.end());
+          if (chunks_.empty() || !r.done() || got != want) {
+            fail(pos, "Message Index disagrees with its Chunk");
+          }
+        }
         if (!chunks_.empty()) {
           indexed.insert(ch);
           auto& c = chunks_.back();
@@ -330,6 +478,7 @@ void McapReader::linearScan(McapReadMode mode, std::uint64_t limit) {
         mcap::MetadataIndex m;
         m.name = r.str("name");
         r.stringMap("metadata");
+        if (!strict && !r.done()) fail(pos, "Metadata record has trailing bytes");
         m.offset = pos;
         m.length = mcap::kRecordPrefix + len;
         metadata_.push_back(std::move(m));
@@ -346,13 +495,21 @@ void McapReader::linearScan(McapReadMode mode, std::uint64_t limit) {
       } else if (op == mcap::kFooter) {
         if (strict) fail(pos, "Footer record inside the data section");
         break;
+      } else if (!strict && (op == mcap::kChunkIndex || op == mcap::kStatistics ||
+                             op == mcap::kSummaryOffset || op == mcap::kMetadataIndex ||
+                             op == mcap::kAttachmentIndex)) {
+        break;  // the summary begins: a data section without Data End
+      } else if (!strict && (op == 0 || (op > mcap::kDataEnd && op < 0x80))) {
+        fail(pos, "reserved record opcode " + std::to_string(op));
       }
     } catch (const ShortRead& e) {
       if (strict) fail(pos, std::string("malformed record: ") + e.what());
-      break;
-    } catch (const InputError&) {
+      skipDamage(std::string("malformed record: ") + e.what());
+      continue;
+    } catch (const InputError& e) {
       if (strict) throw;
-      break;
+      skipDamage(e.what());
+      continue;
     }
     pos += mcap::kRecordPrefix + len;
     valid_end_ = pos;
@@ -489,6 +646,36 @@ void McapReader::loadSummary(std::uint64_t footer_pos, std::uint64_t summary_sta
     if (a.chunk != b.chunk) return a.chunk < b.chunk;
     return a.offset < b.offset;
   });
+}
+
+void McapReader::verifyChunks() const {
+  std::vector<std::uint8_t> records;
+  for (std::uint32_t no = 0; no < chunks_.size(); ++no) {
+    const mcap::ChunkInfo& c = chunks_[no];
+    decompressChunk(no, records);
+    std::map<std::uint16_t, std::vector<std::pair<std::uint64_t, std::uint64_t>>> found;
+    for (std::uint64_t p = 0; p < records.size();) {
+      if (records.size() - p < mcap::kRecordPrefix) fail(c.start_offset, "truncated record inside Chunk");
+      const std::uint64_t len = readU64(records.data() + p + 1);
+      if (len > records.size() - p - mcap::kRecordPrefix) {
+        fail(c.start_offset, "record inside Chunk runs past the Chunk");
+      }
+      if (records[p] == mcap::kMessage) {
+        if (len < 22) fail(c.start_offset, "Message record inside Chunk is too short");
+        std::uint16_t ch;
+        std::memcpy(&ch, records.data() + p + mcap::kRecordPrefix, 2);
+        found[ch].emplace_back(readU64(records.data() + p + mcap::kRecordPrefix + 6), p);
+      }
+      p += mcap::kRecordPrefix + len;
+    }
+    std::map<std::uint16_t, std::vector<std::pair<std::uint64_t, std::uint64_t>>> indexed;
+    for (const auto& [ch, e] : c.message_index) {
+      if (!e.empty()) indexed[ch] = e;
+    }
+    for (auto& [ch, e] : indexed) std::sort(e.begin(), e.end());
+    for (auto& [ch, e] : found) std::sort(e.begin(), e.end());
+    if (found != indexed) fail(c.start_offset, "Chunk records disagree with its Message Index");
+  }
 }
 
 void McapReader::finishTopics() {

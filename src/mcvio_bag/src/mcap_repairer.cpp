@@ -11,10 +11,37 @@
 
 namespace mcvio::bag {
 
+bool McapRepairReport::damaged() const {
+  return std::any_of(damage.begin(), damage.end(),
+                     [](const McapDamage& d) { return !d.unfinished_tail; });
+}
+
+namespace {
+
+/// `<file>.orig`, or `.orig.N` if taken: a free name for the untouched original.
+std::filesystem::path originalName(const std::filesystem::path& path) {
+  std::filesystem::path p = path.string() + ".orig";
+  for (int i = 1; std::filesystem::exists(p); ++i) p = path.string() + ".orig." + std::to_string(i);
+  return p;
+}
+
+/// Writes the Message Index records the last chunk lacks, right after it.
+void appendMissingIndexes(detail::FileOutput& out, mcap::ChunkInfo& last) {
+  for (const auto& [ch, entries] : last.message_index) {
+    if (last.message_index_offsets.count(ch)) continue;
+    last.message_index_offsets[ch] = out.position();
+    detail::writeMcapRecord(out, mcap::kMessageIndex, detail::mcapMessageIndexContent(ch, entries));
+  }
+  last.message_index_length = out.position() - (last.start_offset + last.length);
+}
+
+}  // namespace
+
 McapRepairReport McapRepairer::repair(const std::filesystem::path& path) {
   McapRepairReport report;
   try {
     McapReader intact(path, McapReadMode::Strict);
+    intact.verifyChunks();  // a valid summary says nothing about the chunks' CRCs
     report.was_complete = true;
     report.kept_bytes = intact.fileSize();
     report.chunks = intact.chunks().size();
@@ -31,11 +58,12 @@ McapRepairReport McapRepairer::repair(const std::filesystem::path& path) {
   std::uint64_t valid_end = 0;
   std::uint32_t crc = 0;
   bool append_last_index = false;
+  const std::filesystem::path tmp = path.string() + ".reindex-tmp";
   {
     McapReader r(path, McapReadMode::Recover);
     valid_end = r.validEnd();
+    report.damage = r.damage();
     report.dropped_bytes = r.fileSize() - valid_end;
-    crc = Crc32::update(0, r.data(), valid_end);
     schemas = r.schemas();
     channels = r.channels();
     chunks = r.chunks();
@@ -66,18 +94,64 @@ McapRepairReport McapRepairer::repair(const std::filesystem::path& path) {
       // Messages outside chunks are counted per channel from the reader's topics.
       stats.channel_message_counts.clear();
     }
-  }  // unmap before rewriting the file
-  detail::FileOutput out(path, valid_end, crc);
-  if (append_last_index) {
-    auto& last = chunks.back();
-    for (const auto& [ch, entries] : last.message_index) {
-      if (last.message_index_offsets.count(ch)) continue;
-      last.message_index_offsets[ch] = out.position();
-      detail::writeMcapRecord(out, mcap::kMessageIndex,
-                              detail::mcapMessageIndexContent(ch, entries));
+    if (!report.damage.empty()) {
+      // Bytes are dropped: build the repaired file beside the original from the kept stretches
+      // (everything before validEnd() but the holes) and move offsets accordingly.
+      struct Kept {
+        std::uint64_t begin, end, new_begin;
+      };
+      std::vector<Kept> kept;
+      std::uint64_t at = 0;
+      std::uint64_t new_at = 0;
+      for (const auto& d : report.damage) {
+        if (d.offset >= valid_end) break;
+        kept.push_back({at, d.offset, new_at});
+        new_at += d.offset - at;
+        report.dropped_bytes += d.size;
+        at = d.offset + d.size;
+      }
+      kept.push_back({at, valid_end, new_at});
+      auto moved = [&](std::uint64_t old) {
+        for (const auto& k : kept) {
+          if (old >= k.begin && old < k.end) return old - k.begin + k.new_begin;
+        }
+        throw InputError(path.string() + ": internal error: kept record outside the kept data");
+      };
+      for (auto& c : chunks) {
+        c.start_offset = moved(c.start_offset);
+        c.records_offset = moved(c.records_offset);
+        for (auto& [ch, off] : c.message_index_offsets) off = moved(off);
+      }
+      for (auto& m : metadata) m.offset = moved(m.offset);
+      std::filesystem::remove(tmp);
+      detail::FileOutput out(tmp);
+      for (const auto& k : kept) out.write(r.data() + k.begin, k.end - k.begin);
+      if (append_last_index) appendMissingIndexes(out, chunks.back());
+      report.kept_bytes = new_at + (valid_end - at);
+      report.chunks = chunks.size();
+      detail::writeMcapTail(out, schemas, channels, chunks, stats, true, metadata);
+      out.sync();
+      out.close();
+    } else {
+      crc = Crc32::update(0, r.data(), valid_end);
     }
-    last.message_index_length = out.position() - (last.start_offset + last.length);
+  }  // unmap before rewriting or renaming the file
+  if (!report.damage.empty()) {
+    try {
+      McapReader check(tmp, McapReadMode::Strict);  // prove the result reads back strictly
+      check.verifyChunks();
+    } catch (...) {
+      std::filesystem::remove(tmp);
+      throw;
+    }
+    report.original = originalName(path);
+    std::filesystem::rename(path, report.original);
+    std::filesystem::rename(tmp, path);
+    return report;
   }
+  // Nothing recorded is dropped (at most an old summary): finish the file in place.
+  detail::FileOutput out(path, valid_end, crc);
+  if (append_last_index) appendMissingIndexes(out, chunks.back());
   report.kept_bytes = valid_end;
   report.chunks = chunks.size();
   detail::writeMcapTail(out, schemas, channels, chunks, stats, true, metadata);

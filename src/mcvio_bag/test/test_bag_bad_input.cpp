@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "bag_test_util.hpp"
+#include "mcvio/bag/bag_info.hpp"
 #include "mcvio/bag/bag_reader.hpp"
 #include "mcvio/bag/bag_reindexer.hpp"
 #include "mcvio/bag/bag_writer.hpp"
@@ -240,6 +241,121 @@ TEST(BadInput, ForgedChunkSizeIsRejectedBeforeAllocating) {
           << e.what();
     }
   }
+}
+
+}  // namespace
+}  // namespace mcvio::bag
+
+namespace mcvio::bag {
+namespace {
+
+/// Joins warnings for assertion messages.
+std::string joined(const std::vector<std::string>& w) {
+  std::string s;
+  for (const auto& l : w) s += l + "\n";
+  return s;
+}
+
+bool anyHas(const std::vector<std::string>& w, const std::vector<std::string>& parts) {
+  for (const auto& l : w) {
+    bool all = true;
+    for (const auto& p : parts) all &= l.find(p) != std::string::npos;
+    if (all) return true;
+  }
+  return false;
+}
+
+/// bag info used to read metadata.yaml alone: an emptied or cut data file still showed every
+/// message. It must name the file.
+TEST(BagInfoChecks, EmptyOrTruncatedDataFileIsReported) {
+  for (const bool empty : {true, false}) {
+    const auto dir = smallBag(empty ? "info_empty" : "info_cut", "mcap");
+    const auto file = dir / readBagMetadata(dir).relative_file_paths.at(0);
+    std::filesystem::resize_file(file, empty ? 0 : std::filesystem::file_size(file) / 2);
+    std::vector<std::string> w;
+    bagInfo(dir, &w);
+    EXPECT_TRUE(anyHas(w, {file.string()})) << joined(w);
+  }
+  const auto dir = smallBag("info_ok", "mcap");
+  std::vector<std::string> w;
+  bagInfo(dir, &w);
+  EXPECT_TRUE(w.empty()) << joined(w);
+}
+
+/// metadata.yaml that disagrees with the MCAP summary: counts, types, serialization format,
+/// negative duration, unknown version. Reading the bag warns about the type too.
+TEST(BagInfoChecks, MetadataDisagreeingWithTheStorageIsReported) {
+  const auto dir = smallBag("info_disagree", "mcap");
+  BagMetadata m = readBagMetadata(dir);
+  ASSERT_FALSE(m.topics_with_message_count.empty());
+  auto& t = m.topics_with_message_count[0];
+  const std::string topic = t.topic.name;
+  const std::string real_type = t.topic.type;
+  t.topic.type = "sensor_msgs/msg/Imu";
+  t.topic.serialization_format = "json";
+  t.message_count += 7;
+  m.message_count += 7;
+  m.duration = -5;
+  m.version = 12;
+  writeBagMetadata(dir, m);
+  std::vector<std::string> w;
+  bagInfo(dir, &w);
+  EXPECT_TRUE(anyHas(w, {topic, "sensor_msgs/msg/Imu", real_type})) << joined(w);
+  EXPECT_TRUE(anyHas(w, {topic, "json"})) << joined(w);
+  EXPECT_TRUE(anyHas(w, {topic, std::to_string(t.message_count)})) << joined(w);
+  EXPECT_TRUE(anyHas(w, {"message_count", std::to_string(m.message_count)})) << joined(w);
+  EXPECT_TRUE(anyHas(w, {"negative duration"})) << joined(w);
+  EXPECT_TRUE(anyHas(w, {"version 12"})) << joined(w);
+  BagReader r(dir);
+  EXPECT_TRUE(anyHas(r.warnings(), {topic, "sensor_msgs/msg/Imu", real_type})) << joined(r.warnings());
+}
+
+/// The help says a single .mcap file is accepted: its summary describes it.
+TEST(BagInfoChecks, SingleMcapFileIsDescribedFromItsSummary) {
+  const auto dir = smallBag("info_single", "mcap");
+  const BagMetadata m = readBagMetadata(dir);
+  const auto file = dir / m.relative_file_paths.at(0);
+  std::filesystem::remove(dir / kMetadataFileName);
+  std::vector<std::string> w;
+  const std::string info = bagInfo(file, &w);
+  EXPECT_TRUE(w.empty()) << joined(w);
+  EXPECT_NE(info.find("Messages:          " + std::to_string(m.message_count)), std::string::npos)
+      << info;
+  EXPECT_NE(info.find("Topic: " + m.topics_with_message_count[0].topic.name), std::string::npos)
+      << info;
+}
+
+}  // namespace
+}  // namespace mcvio::bag
+
+namespace mcvio::bag {
+namespace {
+
+/// A bag folder whose metadata.yaml is lost is still a bag (play/run used to call it "not a
+/// EuRoC folder"); reading it names metadata.yaml and `mcvio bag reindex`.
+TEST(BagFolder, WithoutMetadataIsABagThatNeedsReindex) {
+  const auto dir = smallBag("no_metadata_folder", "mcap");
+  std::filesystem::remove(dir / kMetadataFileName);
+  EXPECT_TRUE(BagReader::looksLikeBag(dir));
+  expectInputError([&] { BagReader r(dir); },
+                   {"metadata.yaml", "mcvio bag reindex " + dir.string()});
+  const auto plain = test::freshPath("plain_folder");
+  std::filesystem::create_directories(plain / "mav0");
+  EXPECT_FALSE(BagReader::looksLikeBag(plain));
+}
+
+/// Decode errors of a bag message must name the storage file, topic and log time.
+TEST(BagFolder, WhereNamesFileTopicAndTime) {
+  const auto dir = smallBag("where_bag", "mcap");
+  const auto file = dir / readBagMetadata(dir).relative_file_paths.at(0);
+  BagReader r(dir);
+  BagMessage m;
+  ASSERT_TRUE(r.next(m));
+  ASSERT_TRUE(r.next(m));
+  const std::string w = r.where(m);
+  EXPECT_NE(w.find(file.string()), std::string::npos) << w;
+  EXPECT_NE(w.find("topic /a"), std::string::npos) << w;
+  EXPECT_NE(w.find("log time 1001 ns"), std::string::npos) << w;
 }
 
 }  // namespace

@@ -86,27 +86,32 @@ OfflineInput readBag(const OfflineRunOptions& options) {
   std::map<Timestamp, std::pair<cv::Mat, cv::Mat>> frames;
   bag::BagMessage m;
   while (reader.next(m)) {
-    const auto value = rosmsg::CdrCodec(*defs[m.topic]).decode(m.data);
-    const Timestamp t = stampOf(value);
-    if (m.topic == "/imu0") {
-      ImuSample s;
-      s.t = t;
-      s.gyro = {number(value["angular_velocity"]["x"]), number(value["angular_velocity"]["y"]), number(value["angular_velocity"]["z"])};
-      s.accel = {number(value["linear_acceleration"]["x"]), number(value["linear_acceleration"]["y"]), number(value["linear_acceleration"]["z"])};
-      in.imu.push_back(s);
-      continue;
+    try {
+      const auto value = rosmsg::CdrCodec(*defs[m.topic]).decode(m.data);
+      const Timestamp t = stampOf(value);
+      if (m.topic == "/imu0") {
+        ImuSample s;
+        s.t = t;
+        s.gyro = {number(value["angular_velocity"]["x"]), number(value["angular_velocity"]["y"]), number(value["angular_velocity"]["z"])};
+        s.accel = {number(value["linear_acceleration"]["x"]), number(value["linear_acceleration"]["y"]), number(value["linear_acceleration"]["z"])};
+        in.imu.push_back(s);
+        continue;
+      }
+      const auto& enc = std::get<std::string>(value["encoding"].value);
+      const auto w = static_cast<int>(std::get<std::uint64_t>(value["width"].value));
+      const auto h = static_cast<int>(std::get<std::uint64_t>(value["height"].value));
+      const auto step = static_cast<std::size_t>(std::get<std::uint64_t>(value["step"].value));
+      const auto& bytes = std::get<rosmsg::MessageValue::Bytes>(value["data"].value);
+      if (enc != "mono8" || bytes.size() < step * static_cast<std::size_t>(h) || step < static_cast<std::size_t>(w)) {
+        in.warnings.push_back(m.topic + " at " + std::to_string(t) + ": not a mono8 image, skipped");
+        continue;
+      }
+      cv::Mat img = cv::Mat(h, w, CV_8UC1, const_cast<std::uint8_t*>(bytes.data()), step).clone();
+      (m.topic == "/cam0/image_raw" ? frames[t].first : frames[t].second) = img;
+    } catch (const std::exception& e) {
+      // Name the bag file, topic and time: a bare CDR error does not say which message.
+      throw InputError(reader.where(m) + ": " + e.what());
     }
-    const auto& enc = std::get<std::string>(value["encoding"].value);
-    const auto w = static_cast<int>(std::get<std::uint64_t>(value["width"].value));
-    const auto h = static_cast<int>(std::get<std::uint64_t>(value["height"].value));
-    const auto step = static_cast<std::size_t>(std::get<std::uint64_t>(value["step"].value));
-    const auto& bytes = std::get<rosmsg::MessageValue::Bytes>(value["data"].value);
-    if (enc != "mono8" || bytes.size() < step * static_cast<std::size_t>(h) || step < static_cast<std::size_t>(w)) {
-      in.warnings.push_back(m.topic + " at " + std::to_string(t) + ": not a mono8 image, skipped");
-      continue;
-    }
-    cv::Mat img = cv::Mat(h, w, CV_8UC1, const_cast<std::uint8_t*>(bytes.data()), step).clone();
-    (m.topic == "/cam0/image_raw" ? frames[t].first : frames[t].second) = img;
   }
   std::vector<std::pair<cv::Mat, cv::Mat>> pairs;
   for (auto& [t, p] : frames) {
@@ -403,7 +408,7 @@ void runPipelined(const OfflineInput& data, VioPipeline& vio, RunRecorder& rec) 
 OfflineRunSummary runOffline(const OfflineRunOptions& options) {
   namespace fs = std::filesystem;
   const fs::path p(options.dataset_dir);
-  const bool is_bag = fs::exists(p / "metadata.yaml") || p.extension() == ".mcap" || p.extension() == ".db3";
+  const bool is_bag = bag::BagReader::looksLikeBag(p);
   return runOffline(is_bag ? readBag(options) : readEuroc(options), options);
 }
 

@@ -3,6 +3,7 @@
 #include "commands/command_context.hpp"
 #include <filesystem>
 
+#include "mcvio/bag/bag_reader.hpp"
 #include "mcvio/components/bag_player.hpp"
 #include "mcvio/components/player.hpp"
 #include "mcvio/dataset/euroc_dataset.hpp"
@@ -42,7 +43,7 @@ void addPlayCommand(CLI::App& app, CommandContext& ctx) {
   cmd->callback([opt, &ctx] {
     namespace fs = std::filesystem;
     const fs::path p(opt->dataset);
-    const bool is_bag = fs::exists(p / "metadata.yaml") || p.extension() == ".mcap" || p.extension() == ".db3";
+    const bool is_bag = bag::BagReader::looksLikeBag(p);
     opt->player.progress = !opt->quiet;
     opt->player.validate();
     if (is_bag) {

@@ -74,18 +74,39 @@ void addBagCommand(CLI::App& app, CommandContext&) {
                                         "Examples:\n  mcvio bag info /tmp/run\n  mcvio bag reindex /tmp/run");
   cmd->require_subcommand(1);
   auto path = std::make_shared<std::string>();
-  auto* info = cmd->add_subcommand("info", "Files, duration, message counts and topics of a bag, like `ros2 bag info`.");
-  info->add_option("bag", *path, "bag directory (or .mcap / .db3 file)")->required();
-  info->callback([path] { std::cout << bag::bagInfo(*path); });
+  auto* info = cmd->add_subcommand("info", "Files, duration, message counts and topics of a bag, like `ros2 bag info`.\n"
+                                                  "Each storage file is opened and checked against metadata.yaml; disagreements\n"
+                                                  "are WARNING lines and exit status 1.");
+  info->add_option("bag", *path, "bag directory (or a single .mcap / .db3 file, described from its own summary)")->required();
+  info->callback([path] {
+    std::vector<std::string> warnings;
+    std::cout << bag::bagInfo(*path, &warnings);
+    for (const auto& w : warnings) std::cerr << "mcvio bag info: WARNING: " << w << "\n";
+    if (!warnings.empty()) {
+      throw CommandExit{1, "bag info: metadata.yaml and the storage files disagree or a file is unreadable (see WARNING lines)"};
+    }
+  });
   auto* reindex = cmd->add_subcommand(
-      "reindex", "Rebuild metadata.yaml and the MCAP summary/indexes of a bag whose recorder was killed:\n"
-                 "every message of every completed chunk (sqlite3: every committed transaction) is kept.");
+      "reindex",
+      "Rebuild metadata.yaml and the MCAP summary/indexes of a bag whose recorder was killed or whose\n"
+      "files are damaged. Every chunk is checked (CRC, records, indexes); every intact chunk is kept,\n"
+      "also those after a damaged one. Damaged records and a killed writer's unfinished last record\n"
+      "are dropped and reported (byte offset, size, messages lost if known). A file that loses bytes\n"
+      "is rewritten beside it and the untouched original kept as <file>.orig. sqlite3: write-ahead\n"
+      "logs are folded in (every committed transaction is kept).\n"
+      "Exit status 1 when damaged data was dropped (the bag is readable again), 0 otherwise.");
   reindex->add_option("bag", *path, "bag directory")->required();
   reindex->callback([path] {
     std::vector<std::string> log;
-    const auto meta = bag::BagReindexer::reindex(*path, &log);
+    std::vector<std::string> damage;
+    const auto meta = bag::BagReindexer::reindex(*path, &log, &damage);
     for (const auto& l : log) std::cerr << "mcvio bag reindex: " << l << "\n";
+    for (const auto& d : damage) std::cerr << "mcvio bag reindex: WARNING: " << d << "\n";
     std::cout << bag::bagInfo(*path);
+    if (!damage.empty()) {
+      throw CommandExit{1, "bag reindex: " + std::to_string(damage.size()) +
+                               " damaged stretch(es) dropped, see the WARNING lines; the originals are kept as *.orig"};
+    }
   });
 }
 

@@ -2,6 +2,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "mcvio/bag/bag_metadata.hpp"
 
@@ -13,7 +14,12 @@ namespace mcvio::bag {
 std::string formatBagInfo(const BagMetadata& metadata, std::uint64_t bag_size_bytes);
 
 /// Reads `<bag>/metadata.yaml`, sums the storage files' sizes and formats them
-/// (`mcvio bag info`). InputError for a missing or malformed metadata.yaml.
-std::string bagInfo(const std::filesystem::path& bag_dir);
+/// (`mcvio bag info`). InputError for a missing or malformed metadata.yaml. Each storage file
+/// is opened (MCAP: magic, footer, summary; sqlite3: its tables) and compared with
+/// metadata.yaml; `warnings` (optional) receives one line per disagreement or unreadable file,
+/// naming the file and topic or field. A single .mcap or .db3 file is described from its own
+/// summary.
+std::string bagInfo(const std::filesystem::path& bag,
+                    std::vector<std::string>* warnings = nullptr);
 
 }  // namespace mcvio::bag

@@ -28,6 +28,10 @@ class BagReader {
   /// storage, missing or corrupt files (the message names the file and byte offset).
   explicit BagReader(const std::filesystem::path& bag, BagReaderOptions options = {});
   ~BagReader();
+  /// A bag rather than a data set folder: a .mcap/.db3 file, or a directory holding
+  /// metadata.yaml or .mcap/.db3 files (then a missing metadata.yaml is an error that names
+  /// `mcvio bag reindex`, not "not a EuRoC folder").
+  static bool looksLikeBag(const std::filesystem::path& path);
   BagReader(const BagReader&) = delete;
   BagReader& operator=(const BagReader&) = delete;
 
@@ -38,8 +42,14 @@ class BagReader {
   /// The next message in log-time order; false at the end.
   bool next(BagMessage& out);
   std::optional<BagMessage> next();
+  /// Where the message last returned by next() came from, for error messages:
+  /// "<storage file>: topic <name>, message at log time <ns> ns".
+  std::string where(const BagMessage& m) const;
   /// Counts and time range gathered from the storage files themselves.
   FileStatistics statistics() const;
+  /// Disagreements between metadata.yaml and the storage files that do not stop reading
+  /// (a topic's type differs from its schema), one line each naming the topic and both types.
+  const std::vector<std::string>& warnings() const { return warnings_; }
 
  private:
   void openFiles(const std::vector<std::filesystem::path>& files, const BagReaderOptions& o);
@@ -47,8 +57,11 @@ class BagReader {
   BagMetadata metadata_;
   std::vector<TopicInfo> topics_;
   std::vector<std::unique_ptr<StorageFileReader>> files_;
+  std::vector<std::filesystem::path> paths_;
+  std::size_t last_file_ = 0;
   std::vector<BagMessage> heads_;
   std::vector<bool> has_head_;
+  std::vector<std::string> warnings_;
 };
 
 }  // namespace mcvio::bag

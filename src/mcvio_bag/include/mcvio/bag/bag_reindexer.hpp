@@ -14,9 +14,13 @@ class BagReindexer {
  public:
   /// Returns the new metadata. InputError when the directory holds no storage files, mixes
   /// .mcap and .db3, or a file is unusable (e.g. not MCAP at all).
-  /// `log` (optional) receives one line per file describing what was done.
+  /// `log` (optional) receives one line per file describing what was done, plus where an
+  /// original was kept and what a killed writer's unfinished tail lost. `damage` (optional)
+  /// receives one line per damaged record that was dropped (file, byte offset, size, messages
+  /// lost when known): data was lost that had been written completely.
   static BagMetadata reindex(const std::filesystem::path& bag_dir,
-                             std::vector<std::string>* log = nullptr);
+                             std::vector<std::string>* log = nullptr,
+                             std::vector<std::string>* damage = nullptr);
 };
 
 }  // namespace mcvio::bag

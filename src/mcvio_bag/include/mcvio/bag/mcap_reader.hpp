@@ -16,9 +16,21 @@ enum class McapReadMode {
   /// The file must be complete: magic, records, footer, magic. Uses the summary (chunk and
   /// message indexes) when present, a linear scan otherwise. Anything else is an InputError.
   Strict,
-  /// Linear scan that keeps every complete, CRC-clean record and stops at the first truncated
-  /// or corrupt one (for files of a killed writer); validEnd() tells where that is.
+  /// Linear scan that keeps every complete, CRC-clean record. A truncated or corrupt record is
+  /// skipped up to the next record that proves intact (a Chunk that decompresses with its CRC,
+  /// Metadata, Data End); damage() lists what was skipped. Schemas and channels also come from
+  /// an intact summary, so a damaged Schema or Channel record loses no messages.
   Recover,
+};
+
+/// A stretch of an MCAP file that McapReadMode::Recover could not use.
+struct McapDamage {
+  std::uint64_t offset = 0;         ///< File offset of the first skipped byte.
+  std::uint64_t size = 0;           ///< Bytes skipped.
+  std::int64_t messages_lost = -1;  ///< From a damaged chunk's Message Index records; -1: unknown.
+  /// A record cut by the end of the file with nothing usable after it (a killed writer).
+  bool unfinished_tail = false;
+  std::string reason;
 };
 
 /// Reads one MCAP file written with the ros2 profile (by mcvio or by rosbag2).
@@ -41,6 +53,11 @@ class McapReader : public StorageFileReader {
   bool usedSummary() const { return used_summary_; }
   /// Recover mode: offset just past the last complete record that was kept.
   std::uint64_t validEnd() const { return valid_end_; }
+  /// Recover mode: the skipped stretches in file order (holes before validEnd(), then the tail).
+  const std::vector<McapDamage>& damage() const { return damage_; }
+  /// Decompresses every chunk, checks its CRC and that its records agree with the message
+  /// indexes (a summary-based load reads chunks only on demand). InputError on the first bad one.
+  void verifyChunks() const;
   /// Recover mode: a Data End record was found (at validEnd()).
   bool dataEndFound() const { return data_end_found_; }
   /// Chunks with their message index entries (recomputed from the data on a linear scan).
@@ -73,6 +90,13 @@ class McapReader : public StorageFileReader {
                         bool collect_definitions);
   void parseChunkRecord(std::uint64_t pos, mcap::ChunkInfo& info) const;
   void decompressChunk(std::uint32_t chunk_no, std::vector<std::uint8_t>& out) const;
+  void decompress(const mcap::ChunkInfo& c, std::vector<std::uint8_t>& out) const;
+  void acceptChunk(std::uint64_t pos, std::uint64_t len, bool strict,
+                   std::vector<std::uint8_t>& records);
+  void preloadSummaryDefinitions();
+  std::uint64_t resync(std::uint64_t from, std::uint64_t limit) const;
+  std::int64_t messagesIndexedAfter(std::uint64_t pos, std::uint64_t limit) const;
+  bool channelDeclared(std::uint16_t id) const;
   void addSchema(std::uint64_t pos, const std::uint8_t* p, std::uint64_t len);
   void addChannel(std::uint64_t pos, const std::uint8_t* p, std::uint64_t len);
   void finishTopics();
@@ -89,6 +113,7 @@ class McapReader : public StorageFileReader {
   std::vector<mcap::ChunkInfo> chunks_;
   std::vector<mcap::MetadataIndex> metadata_;
   std::vector<bool> chunk_index_complete_;
+  std::vector<McapDamage> damage_;
   std::vector<Entry> entries_;
   std::vector<TopicInfo> topics_;
   std::vector<int> channel_topic_;  // channel id -> index in topics_, -1 if none

@@ -1,6 +1,9 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <vector>
+
+#include "mcvio/bag/mcap_reader.hpp"
 
 namespace mcvio::bag {
 
@@ -11,11 +14,22 @@ struct McapRepairReport {
   std::uint64_t dropped_bytes = 0;  ///< Trailing bytes cut (partial records, old summary).
   std::uint64_t chunks = 0;
   std::uint64_t messages = 0;
+  /// Every stretch that was dropped (damaged records, the unfinished tail); empty when only the
+  /// summary was rebuilt.
+  std::vector<McapDamage> damage;
+  /// Where the untouched original was kept (`<file>.orig`); empty when nothing was dropped.
+  std::filesystem::path original;
+  /// Damaged records (not just a killed writer's unfinished tail) were dropped.
+  bool damaged() const;
 };
 
-/// Finishes an MCAP file a killed writer left behind: keeps every complete, CRC-clean record
-/// (every completed chunk), cuts what follows, writes the missing message indexes of the last
-/// chunk, then Data End, summary and footer. The file is changed in place.
+/// Finishes an MCAP file a killed writer left behind or repairs a damaged one: keeps every
+/// complete, CRC-clean record (every intact chunk, also those after a damaged one), writes the
+/// missing message indexes of the last chunk, then Data End, summary and footer. A file is
+/// "intact" only when its summary, every chunk's CRC and its message indexes check out.
+/// When nothing is dropped the tail is rewritten in place; otherwise the repaired file is
+/// written next to it, read back strictly, and only then the original is renamed to
+/// `<file>.orig` (`.orig.1`, ... if taken) and the repaired file takes its name.
 class McapRepairer {
  public:
   static McapRepairReport repair(const std::filesystem::path& path);
