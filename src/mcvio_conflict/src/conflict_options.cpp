@@ -158,6 +158,7 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("onset_lookback_frames", &o.onset_lookback_frames);
   read("selective_strikes", &o.selective_strikes);
   read("use_frontend_labels", &o.use_frontend_labels);
+  read("frontend_labels_outside_conflicts", &o.frontend_labels_outside_conflicts);
   read("new_landmark_probation", &o.new_landmark_probation);
   read("probation_agreeing_tests", &o.probation_agreeing_tests);
   read("auto_min_static_landmarks", &o.auto_min_static_landmarks);

@@ -380,8 +380,10 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   }
   // Tracks already found moving and still in view keep a partial conflict open: selective
   // elimination has taken them out of the test above, so without this the interval would close
-  // while the pedestrian or the carried object is still there.
-  if (selective_active && !imu_dominated_ && frames_since_reset_ >= options_.warmup_frames) {
+  // while the pedestrian or the carried object is still there. Only a conflict that is open or
+  // suspected: the frontend's labels eliminate tracks outside intervals too, and whether those
+  // are evidence is frontend_evidence's to say.
+  if (selective_active && !imu_dominated_ && frames_since_reset_ >= options_.warmup_frames && conflictActive()) {
     int moving_in_view = 0;
     for (const auto& obs : cam0) moving_in_view += classifier_.isMoving(obs.first) ? 1 : 0;
     if (moving_in_view >= options_.hold_moving_min_count &&
@@ -426,13 +428,16 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   const bool was_active = conflictActive();
   d.report.evidence_score = evidence ? std::max(score, 1.0) : scored ? score : std::numeric_limits<double>::quiet_NaN();
   const auto state = tracker_.update(t, evidence, tested, d.report.evidence_score);
-  // Selective elimination acts only around detected conflicts, so a clean sequence keeps every
-  // landmark (and the reference's accuracy). Inside an IMU-dominated interval every landmark
-  // disagrees with the inertial motion; that says nothing about which of them move afterwards.
-  if (selective_active && !imu_dominated_ && state != conflict::ConflictIntervalTracker::State::kNone) {
-    for (const auto& v : verdicts)
-      if (classifier_.addVerdict(v.track_id, v.inconsistent)) d.eliminate.push_back(v.track_id);
-    if (options_.use_frontend_labels)
+  // The landmark detector's verdicts eliminate only around detected conflicts: its false verdicts
+  // on a clean sequence would cost landmarks the reference keeps. The frontend's labels may act on
+  // every frame (frontend_labels_outside_conflicts). Inside an IMU-dominated interval every
+  // landmark disagrees with the inertial motion; that says nothing about which of them move.
+  const bool in_interval = state != conflict::ConflictIntervalTracker::State::kNone;
+  if (selective_active && !imu_dominated_) {
+    if (in_interval)
+      for (const auto& v : verdicts)
+        if (classifier_.addVerdict(v.track_id, v.inconsistent)) d.eliminate.push_back(v.track_id);
+    if (options_.use_frontend_labels && (in_interval || options_.frontend_labels_outside_conflicts))
       for (const auto id : frontend.inconsistent)
         if (cam0.count(id) != 0 && classifier_.addVerdict(id, true)) d.eliminate.push_back(id);
   }

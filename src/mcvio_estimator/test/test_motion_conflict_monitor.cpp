@@ -574,6 +574,40 @@ TEST(MotionConflictMonitor, FrontendLabelsDetectAnOccluderWithoutStereo) {
   for (const auto& f : run(laptopScene(), strict, kLaptopFrames)) EXPECT_FALSE(inConflict(f));
 }
 
+TEST(MotionConflictMonitor, FrontendLabelsEliminateAFewTracksOutsideAnyInterval) {
+  // A walker entering the view: 4 of 84 tracks labelled, too few to be evidence of a conflict.
+  Scenario sc;
+  sc.points = staticPoints(84, 0, 1);
+  sc.frontend_labels = true;
+  for (int i = 0; i < 4; ++i) {
+    sc.points[static_cast<std::size_t>(i)].frontend_inconsistent = true;
+    sc.points[static_cast<std::size_t>(i)].appear_s = frameSeconds(60);
+  }
+  const conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
+  ASSERT_LT(4, o.frontend_min_count);
+  auto eliminated = [](const std::vector<Frame>& frames, int* first_frame) {
+    std::set<std::uint64_t> ids;
+    *first_frame = -1;
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+      EXPECT_EQ(frames[k].decision.report.state, ConflictReport::State::kNone) << "frame " << k;
+      for (const auto id : frames[k].decision.eliminate) {
+        if (*first_frame < 0) *first_frame = static_cast<int>(k);
+        ids.insert(id);
+      }
+    }
+    return ids;
+  };
+  int first = -1;
+  EXPECT_EQ(eliminated(run(sc, o, 100), &first), (std::set<std::uint64_t>{0, 1, 2, 3}));
+  EXPECT_EQ(first, 60 + o.selective_strikes - 1) << "after selective_strikes labelled frames";
+
+  // Off, or in reference mode, the tracks stay until an interval opens.
+  conflict::ConflictOptions off = o;
+  off.frontend_labels_outside_conflicts = false;
+  EXPECT_TRUE(eliminated(run(sc, off, 100), &first).empty());
+  EXPECT_TRUE(eliminated(run(sc, withMode(conflict::ResolutionMode::kReference), 100), &first).empty());
+}
+
 TEST(MotionConflictMonitor, HeldBiasComesFromASettledEstimateNotATransient) {
   // The reference bias lags bias_reference_lag_frames (40) behind the newest conflict-free frame:
   // with the cabin at frame 130 and the interval opening around 134, the lagged candidate is
