@@ -67,6 +67,24 @@ int main(int argc, char** argv) {
   addBackendCommand(app, ctx);
   addRunCommand(app, ctx);
   mcvio::dds::ShutdownSignal::install();
+  // CLI11 answers an unknown command with "A subcommand is required"; name it and the known ones.
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--domain" || arg == "--dds-profiles" || arg == "--dds-profile") {
+      ++i;
+      continue;
+    }
+    if (arg.empty() || arg[0] == '-') continue;
+    std::string known;
+    bool found = false;
+    for (const auto* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+      found = found || sub->get_name() == arg;
+      known += (known.empty() ? "" : ", ") + sub->get_name();
+    }
+    if (found) break;
+    std::cerr << "mcvio: unknown command '" << arg << "' (commands: " << known << "; mcvio --help explains them)\n";
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -170,20 +170,49 @@ cv::Mat EurocDataset::loadImage(const StereoFrame& frame, int camera) const {
 
 cv::Mat EurocDataset::loadImage(const std::string& path, int camera) const {
   cv::Mat image;
+  std::string error;
+  if (!decode(path, &image, &error)) throw InputError(error);
+  checkSize(path, image, camera);
+  return image;
+}
+
+bool EurocDataset::tryLoadImage(const StereoFrame& frame, int camera, cv::Mat* image, std::string* error) const {
+  const std::string path = frame.path(camera);
+  *image = cv::Mat();
+  cv::Mat decoded;
+  try {
+    if (!decode(path, &decoded, error)) return false;
+  } catch (const InputError& e) {  // PngGrayDecoder's errors name the file and the damage
+    *error = e.what();
+    return false;
+  }
+  checkSize(path, decoded, camera);
+  *image = decoded;
+  return true;
+}
+
+bool EurocDataset::decode(const std::string& path, cv::Mat* image, std::string* error) {
   try {
     // EuRoC's own 8-bit greyscale PNGs take the fast path; anything else goes to OpenCV.
-    if (PngGrayDecoder::decodeFile(path, &image) == PngGrayDecoder::Status::kUnsupported)
-      image = cv::imread(path, cv::IMREAD_GRAYSCALE);
+    if (PngGrayDecoder::decodeFile(path, image) == PngGrayDecoder::Status::kUnsupported)
+      *image = cv::imread(path, cv::IMREAD_GRAYSCALE);
   } catch (const cv::Exception& e) {
-    throw InputError(path + ": cannot decode image: " + e.what());
+    *error = path + ": cannot decode image: " + e.what();
+    return false;
   }
-  if (image.empty()) throw InputError(path + ": cannot read or decode image (missing or corrupt)");
+  if (image->empty()) {
+    *error = path + ": cannot read or decode image (missing or corrupt)";
+    return false;
+  }
+  return true;
+}
+
+void EurocDataset::checkSize(const std::string& path, const cv::Mat& image, int camera) const {
   const CameraCalibration& c = calibration_.camera(camera);
   if (image.cols != c.model.width() || image.rows != c.model.height()) {
     throw InputError(sizeMismatch(path, image.cols, image.rows, c,
                                   (fs::path(root_) / c.name / "sensor.yaml").string()));
   }
-  return image;
 }
 
 }  // namespace mcvio::dataset

@@ -160,8 +160,9 @@ CameraCalibration SensorYaml::readCamera(const std::string& path, const std::str
   }
   const std::vector<double> in = yaml.numbers(yaml.require("intrinsics"), "intrinsics", 4, 4);
   DistortionModel model;
+  const std::string model_name = yaml.text("distortion_model");  // its errors name the file already
   try {
-    model = distortionModelFromString(yaml.text("distortion_model"));
+    model = distortionModelFromString(model_name);
   } catch (const InputError& e) {
     throw InputError(path + ": key 'distortion_model': " + e.what());
   }

@@ -250,6 +250,31 @@ TEST_F(EurocBadInput, TruncatedPng) {
   }
 }
 
+TEST_F(EurocBadInput, TryLoadImageSkipsADamagedFrameButNotAWrongSize) {
+  const std::string png = readText(imagePath(0, 4));
+  writeText(imagePath(0, 4), png.substr(0, png.size() / 3));
+  writeText(imagePath(1, 2), "this is not a PNG file");
+  const EurocDataset data = EurocDataset::open(dir_);
+  cv::Mat image;
+  std::string error;
+  EXPECT_TRUE(data.tryLoadImage(data.stereoFrames()[1], 0, &image, &error));
+  EXPECT_FALSE(image.empty());
+  for (const auto& [frame, camera] : {std::pair{4, 0}, std::pair{2, 1}}) {
+    EXPECT_FALSE(data.tryLoadImage(data.stereoFrames()[static_cast<std::size_t>(frame)], camera, &image, &error));
+    EXPECT_TRUE(image.empty());
+    EXPECT_CONTAINS(error, imagePath(camera, frame));
+  }
+  // A size sensor.yaml contradicts is the calibration's error: it still throws.
+  const std::string yaml = mav0_ + "/cam0/sensor.yaml";
+  std::string text = readText(yaml);
+  text.replace(text.find("resolution: [64, 48]"), 20, "resolution: [640, 48]");
+  writeText(yaml, text);
+  EurocDatasetOptions options;
+  options.check_image_size = false;
+  const EurocDataset resized = EurocDataset::open(dir_, options);
+  EXPECT_THROW(resized.tryLoadImage(resized.stereoFrames()[1], 0, &image, &error), InputError);
+}
+
 TEST_F(EurocBadInput, ImageSizeContradictsSensorYaml) {
   const std::string yaml = mav0_ + "/cam0/sensor.yaml";
   std::string text = readText(yaml);

@@ -84,11 +84,19 @@ OfflineInput readBag(const OfflineRunOptions& options) {
     if (!defs.count(needed)) throw InputError(options.dataset_dir + ": the bag has no " + std::string(needed));
   }
   std::map<Timestamp, std::pair<cv::Mat, cv::Mat>> frames;
+  std::map<std::string, Timestamp> last_stamp;  // per topic, in the bag's order
   bag::BagMessage m;
   while (reader.next(m)) {
     try {
       const auto value = rosmsg::CdrCodec(*defs[m.topic]).decode(m.data);
       const Timestamp t = stampOf(value);
+      const auto last = last_stamp.find(m.topic);
+      if (last != last_stamp.end() && t <= last->second) {
+        // Frames and IMU go by their header stamps; one that goes back is used in stamp order.
+        in.warnings.push_back(reader.where(m) + ": header stamp " + std::to_string(t) + " ns is not after the previous " +
+                              std::to_string(last->second) + " ns on this topic");
+      }
+      last_stamp[m.topic] = std::max(t, last == last_stamp.end() ? t : last->second);
       if (m.topic == "/imu0") {
         ImuSample s;
         s.t = t;
@@ -103,11 +111,18 @@ OfflineInput readBag(const OfflineRunOptions& options) {
       const auto step = static_cast<std::size_t>(std::get<std::uint64_t>(value["step"].value));
       const auto& bytes = std::get<rosmsg::MessageValue::Bytes>(value["data"].value);
       if (enc != "mono8" || bytes.size() < step * static_cast<std::size_t>(h) || step < static_cast<std::size_t>(w)) {
-        in.warnings.push_back(m.topic + " at " + std::to_string(t) + ": not a mono8 image, skipped");
+        in.warnings.push_back(reader.where(m) + ": not a mono8 image (encoding '" + enc + "', " + std::to_string(w) + "x" +
+                              std::to_string(h) + ", step " + std::to_string(step) + ", " + std::to_string(bytes.size()) +
+                              " bytes), skipped");
         continue;
       }
-      cv::Mat img = cv::Mat(h, w, CV_8UC1, const_cast<std::uint8_t*>(bytes.data()), step).clone();
-      (m.topic == "/cam0/image_raw" ? frames[t].first : frames[t].second) = img;
+      cv::Mat& slot = m.topic == "/cam0/image_raw" ? frames[t].first : frames[t].second;
+      if (!slot.empty()) {
+        in.warnings.push_back(reader.where(m) + ": a second image with header stamp " + std::to_string(t) +
+                              " ns on this topic; the first is kept, this one skipped");
+        continue;
+      }
+      slot = cv::Mat(h, w, CV_8UC1, const_cast<std::uint8_t*>(bytes.data()), step).clone();
     } catch (const std::exception& e) {
       // Name the bag file, topic and time: a bare CDR error does not say which message.
       throw InputError(reader.where(m) + ": " + e.what());
@@ -136,9 +151,17 @@ OfflineInput readEuroc(const OfflineRunOptions& options) {
   in.imu = data->imu();
   for (const auto& f : data->stereoFrames()) in.frame_times.push_back(f.t);
   in.warnings = data->warnings();
+  // One damaged image costs its frame (the frontend skips a frame without both images), not the
+  // run; a size that differs from sensor.yaml still stops it.
   in.images = [data](std::size_t i) {
     const auto& f = data->stereoFrames()[i];
-    return std::make_pair(data->loadImage(f, 0), data->loadImage(f, 1));
+    std::pair<cv::Mat, cv::Mat> images;
+    std::string error;
+    for (int c = 0; c < 2; ++c) {
+      if (!data->tryLoadImage(f, c, c == 0 ? &images.first : &images.second, &error))
+        std::cerr << "\nmcvio run: warning: " << error << "; frame " << f.t << " skipped\n";
+    }
+    return images;
   };
   return in;
 }
@@ -325,9 +348,12 @@ class RunRecorder {
 /// after the frame time t: the estimator interpolates the frame-time endpoint, so it needs the
 /// IMU to reach t, as a live backend waits for it. (Real IMU stamps jitter around the camera's:
 /// EuRoC V1_01 has samples 64-128 ns after a frame; stopping before t would skip those frames.)
+/// A non-finite sample (a bag's IMU may carry one) is dropped by the frontend, so it does not count
+/// as reaching t.
 std::vector<ImuSample> imuThrough(const std::vector<ImuSample>& imu, Timestamp t, std::size_t* next) {
   std::vector<ImuSample> out;
-  while (*next < imu.size() && (*next == 0 || imu[*next - 1].t < t)) out.push_back(imu[(*next)++]);
+  const auto reaches = [t](const ImuSample& s) { return s.t >= t && s.gyro.allFinite() && s.accel.allFinite(); };
+  while (*next < imu.size() && (*next == 0 || !reaches(imu[*next - 1]))) out.push_back(imu[(*next)++]);
   return out;
 }
 
@@ -403,6 +429,31 @@ void runPipelined(const OfflineInput& data, VioPipeline& vio, RunRecorder& rec) 
   if (error) std::rethrow_exception(error);
 }
 
+// Frames before the first IMU sample or after the last cannot be estimated: say so before the run
+// rather than leave an empty trajectory.
+void checkImuCoverage(const OfflineInput& data, const std::string& source) {
+  const Timestamp imu0 = data.imu.front().t, imu1 = data.imu.back().t;
+  const Timestamp f0 = data.frame_times.front(), f1 = data.frame_times.back();
+  const auto range = [](Timestamp a, Timestamp b) {
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(3) << toSeconds(a) << " - " << toSeconds(b) << " s";
+    return os.str();
+  };
+  if (imu1 < f0 || imu0 > f1) {
+    throw InputError(source + ": the IMU (" + range(imu0, imu1) + ") does not overlap the camera frames (" + range(f0, f1) +
+                     "): no frame can be estimated");
+  }
+  const auto before = std::lower_bound(data.frame_times.begin(), data.frame_times.end(), imu0) - data.frame_times.begin();
+  const auto after = data.frame_times.end() - std::upper_bound(data.frame_times.begin(), data.frame_times.end(), imu1);
+  // A camera starting a moment before its IMU is common and costs a frame or two; say it when a
+  // second or more of frames is lost.
+  if ((before > 0 && imu0 - f0 >= 1000000000) || (after > 0 && f1 - imu1 >= 1000000000)) {
+    std::cerr << "mcvio run: warning: " << source << ": the IMU (" << range(imu0, imu1) << ") does not cover "
+              << before << " camera frame(s) before it and " << after << " after it (frames " << range(f0, f1)
+              << "); those cannot be estimated\n";
+  }
+}
+
 }  // namespace
 
 OfflineRunSummary runOffline(const OfflineRunOptions& options) {
@@ -419,6 +470,7 @@ OfflineRunSummary runOffline(const OfflineInput& data, const OfflineRunOptions& 
   if (data.frame_times.empty()) throw InputError(options.dataset_dir + ": no stereo frames to run on");
   if (data.imu.empty()) throw InputError(options.dataset_dir + ": no IMU samples");
   if (!data.images) throw InputError(options.dataset_dir + ": no image source");
+  checkImuCoverage(data, options.dataset_dir);
   auto vio_options =
       options.config_file.empty() ? VioPipelineOptions::shipped() : VioPipelineOptions::fromYamlFile(options.config_file);
   if (!options.mode.empty())
@@ -431,12 +483,25 @@ OfflineRunSummary runOffline(const OfflineInput& data, const OfflineRunOptions& 
   const double cpu0 = processCpuSeconds();
   const double load_start = loadAverage();
   const auto start = Clock::now();
-  if (options.pipelined) {
-    runPipelined(data, vio, rec);
-  } else {
-    runSequential(data, vio, rec);
+  try {
+    if (options.pipelined) {
+      runPipelined(data, vio, rec);
+    } else {
+      runSequential(data, vio, rec);
+    }
+    rec.finish();
+  } catch (const std::exception& e) {
+    // What was written stays (nothing is lost), but marked: an aborted run must not pass for a
+    // finished one (`mcvio eval` reads this).
+    const nlohmann::json failed = {{"dataset", options.dataset_dir},
+                                   {"completed", false},
+                                   {"error", e.what()},
+                                   {"frames", rec.summary.frames},
+                                   {"poses", rec.summary.estimated},
+                                   {"warnings", data.warnings}};
+    std::ofstream(options.output_dir + "/stats.json") << failed.dump(2) << "\n";
+    throw;
   }
-  rec.finish();
   OfflineRunSummary summary = rec.summary;
   summary.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   summary.cpu_seconds = processCpuSeconds() - cpu0;
@@ -446,8 +511,14 @@ OfflineRunSummary runOffline(const OfflineInput& data, const OfflineRunOptions& 
   summary.frontend_median_cpu_ms = rec.frontend_ms.median();
   summary.backend_median_cpu_ms = rec.backend_ms.median();
 
+  for (const auto& [reason, count] : rec.skip_reasons) {
+    if (summary.skip_reasons.size() >= 3) break;
+    summary.skip_reasons.push_back(reason + (count > 1 ? " (x" + std::to_string(count) + ")" : ""));
+  }
+  summary.not_initialized = rec.not_initialized;
   nlohmann::json stats = {
       {"dataset", options.dataset_dir},
+      {"completed", true},
       {"pipelined", options.pipelined},
       {"frames", summary.frames},
       {"poses", summary.estimated},

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <thread>
 #include <unistd.h>
@@ -261,7 +262,73 @@ TEST(OfflineRun, ImageErrorInThePipelineIsRethrown) {
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("frame 40"), std::string::npos) << e.what();
     }
+    // What was written stays, marked as an aborted run.
+    std::ifstream stats(o.output_dir + "/stats.json");
+    std::stringstream ss;
+    ss << stats.rdbuf();
+    EXPECT_NE(ss.str().find("\"completed\": false"), std::string::npos) << ss.str();
+    EXPECT_NE(ss.str().find("frame 40: cannot decode image"), std::string::npos) << ss.str();
   }
+  std::filesystem::remove_all(o.output_dir);
+}
+
+// IMU that never reaches the frames: a clear error before the run, not an empty trajectory.
+TEST(OfflineRun, ImuThatDoesNotOverlapTheFramesIsAClearError) {
+  const auto& seq = shortRenderedSequence();
+  auto in = cachedInput(seq);
+  const Timestamp shift = in.frame_times.back() - in.imu.front().t + 1000000000;
+  for (auto& s : in.imu) s.t += shift;
+  pipeline::OfflineRunOptions o;
+  o.dataset_dir = "rendered_6s";
+  o.progress = false;
+  o.output_dir = ::testing::TempDir() + "/imu_late_" + std::to_string(getpid());
+  try {
+    pipeline::runOffline(in, o);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("rendered_6s: the IMU"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("does not overlap the camera frames"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(o.output_dir);
+}
+
+// A bag's IMU may carry a NaN sample: the frontend drops it, and the frame it would have closed
+// still gets the next sample instead of being skipped for want of IMU.
+TEST(OfflineRun, ANonFiniteImuSampleAtAFrameTimeCostsNoFrame) {
+  const auto& seq = shortRenderedSequence();
+  pipeline::OfflineRunOptions o;
+  o.progress = false;
+  o.output_dir = ::testing::TempDir() + "/imu_nan_" + std::to_string(getpid());
+  const auto clean = pipeline::runOffline(cachedInput(seq), o);
+  auto in = cachedInput(seq);
+  const Timestamp t = in.frame_times[60];
+  const auto it = std::lower_bound(in.imu.begin(), in.imu.end(), t, [](const ImuSample& s, Timestamp x) { return s.t < x; });
+  ASSERT_NE(it, in.imu.end());
+  it->gyro.x() = std::numeric_limits<double>::quiet_NaN();
+  const auto s = pipeline::runOffline(in, o);
+  EXPECT_EQ(s.skipped, clean.skipped);
+  EXPECT_EQ(s.estimated, clean.estimated);
+  EXPECT_EQ(s.resets, 0u);
+  std::filesystem::remove_all(o.output_dir);
+}
+
+// A frame without an image is skipped, and the summary says why.
+TEST(OfflineRun, SkippedFramesCarryTheirReason) {
+  const auto& seq = shortRenderedSequence();
+  auto in = cachedInput(seq);
+  in.images = [&seq](std::size_t i) {
+    auto images = seq.images[i];
+    if (i == 50) images.first = cv::Mat();
+    return images;
+  };
+  pipeline::OfflineRunOptions o;
+  o.progress = false;
+  o.output_dir = ::testing::TempDir() + "/skip_reason_" + std::to_string(getpid());
+  const auto s = pipeline::runOffline(in, o);
+  EXPECT_EQ(s.skipped, 1u);
+  ASSERT_EQ(s.skip_reasons.size(), 1u);
+  EXPECT_NE(s.skip_reasons[0].find("left image is missing"), std::string::npos) << s.skip_reasons[0];
+  EXPECT_GT(s.estimated, 0u);
   std::filesystem::remove_all(o.output_dir);
 }
 

@@ -1,5 +1,8 @@
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+
+#include <nlohmann/json.hpp>
 
 #include "commands/command_context.hpp"
 #include "mcvio/core/input_error.hpp"
@@ -17,6 +20,19 @@ namespace ev = mcvio::evaluation;
 
 /// "NAME=PATH" or just PATH (named after its folder or file stem). A folder is an `mcvio run`
 /// output: OUT/trajectory.tum and, when present, OUT/conflict.csv.
+// `mcvio run` marks a run it could not finish; its trajectory stops where the error struck.
+void warnIfIncomplete(const fs::path& stats_path) {
+  if (!fs::is_regular_file(stats_path)) return;
+  try {
+    const auto stats = nlohmann::json::parse(std::ifstream(stats_path));
+    if (stats.value("completed", true)) return;
+    std::cerr << "mcvio eval: warning: " << stats_path.string() << ": this run did not complete ("
+              << stats.value("error", std::string("no reason recorded")) << "); its trajectory ends where it stopped\n";
+  } catch (const nlohmann::json::exception& e) {
+    std::cerr << "mcvio eval: warning: " << stats_path.string() << ": not readable JSON (" << e.what() << ")\n";
+  }
+}
+
 ev::EstimateInput loadEstimate(const std::string& spec) {
   const auto eq = spec.find('=');
   std::string name = eq == std::string::npos ? std::string() : spec.substr(0, eq);
@@ -33,6 +49,7 @@ ev::EstimateInput loadEstimate(const std::string& spec) {
     }
     input.trajectory = ev::loadTum((p / "trajectory.tum").string());
     if (fs::is_regular_file(p / "conflict.csv")) input.detector = ev::DetectorLog::load((p / "conflict.csv").string());
+    warnIfIncomplete(p / "stats.json");
   } else if (fs::exists(p)) {
     input.trajectory = ev::loadTum(path);
   } else {

@@ -46,6 +46,12 @@ void addRunCommand(CLI::App& app, CommandContext&) {
               << s.resets << " resets in " << s.wall_seconds << " s (" << s.data_seconds << " s of data, "
               << (s.wall_seconds > 0 ? s.data_seconds / s.wall_seconds : 0.0) << "x real time) -> "
               << opt->output_dir << "/trajectory.tum\n";
+    for (const auto& reason : s.skip_reasons) std::cerr << "mcvio run: skipped: " << reason << "\n";
+    if (s.skipped > s.skip_reasons.size()) std::cerr << "mcvio run: every skip reason: " << opt->output_dir << "/stats.json\n";
+    if (s.estimated == 0) {
+      std::cerr << "mcvio run: warning: no pose was estimated (" << s.not_initialized
+                << " frames waited to initialise; see the warnings above and " << opt->output_dir << "/stats.json)\n";
+    }
   });
 }
 

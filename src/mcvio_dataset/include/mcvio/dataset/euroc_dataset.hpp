@@ -63,9 +63,16 @@ class EurocDataset {
   cv::Mat loadImage(const StereoFrame& frame, int camera) const;
   /// Same for any image path, checked against camera `camera`'s resolution.
   cv::Mat loadImage(const std::string& path, int camera) const;
+  /// As loadImage(), but a file that cannot be read or decoded (one corrupt frame in a long
+  /// recording) returns false with `error` naming it instead of throwing. A size that differs
+  /// from sensor.yaml still throws: that is the calibration's problem, not one frame's.
+  bool tryLoadImage(const StereoFrame& frame, int camera, cv::Mat* image, std::string* error) const;
 
  private:
   EurocDataset() = default;
+  /// Decodes `path` as 8-bit mono; false with `error` naming the file when it cannot be read.
+  static bool decode(const std::string& path, cv::Mat* image, std::string* error);
+  void checkSize(const std::string& path, const cv::Mat& image, int camera) const;
 
   std::string root_;
   StereoRigCalibration calibration_;
