@@ -14,6 +14,11 @@ namespace fs = std::filesystem;
 using detail::forEachRow;
 using detail::IncreasingTime;
 
+namespace {
+constexpr double kMaxGyroRadPerS = 1000.0;
+constexpr double kMaxAccelMPerS2 = 10000.0;
+}  // namespace
+
 std::vector<ImuSample> EurocFileReader::readImu(const std::string& path, bool skip_bad_rows,
                                                 std::vector<std::string>* warnings) {
   CsvReader csv(path);
@@ -28,6 +33,16 @@ std::vector<ImuSample> EurocFileReader::readImu(const std::string& path, bool sk
               row.doubleAt(3, "w_RS_S_z")};
     s.accel = {row.doubleAt(4, "a_RS_S_x"), row.doubleAt(5, "a_RS_S_y"),
                row.doubleAt(6, "a_RS_S_z")};
+    // Far beyond any MEMS range (16 g, 35 rad/s): a unit mix-up or a corrupt row, which would
+    // only surface later as a failed solve.
+    if (s.gyro.cwiseAbs().maxCoeff() > kMaxGyroRadPerS) {
+      row.fail("angular velocity " + std::to_string(s.gyro.cwiseAbs().maxCoeff()) + " rad/s is implausible (limit " +
+               std::to_string(kMaxGyroRadPerS) + "; degrees instead of radians?)");
+    }
+    if (s.accel.cwiseAbs().maxCoeff() > kMaxAccelMPerS2) {
+      row.fail("acceleration " + std::to_string(s.accel.cwiseAbs().maxCoeff()) + " m/s^2 is implausible (limit " +
+               std::to_string(kMaxAccelMPerS2) + ")");
+    }
     time.check(row, s.t);
     imu.push_back(s);
   });

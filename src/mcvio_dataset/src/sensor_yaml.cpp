@@ -129,6 +129,16 @@ void appendTransform(std::string& out, const Eigen::Isometry3d& T) {
   out += "]\n";
 }
 
+// EuRoC's sensor.yaml says what it describes; a camera folder holding an IMU's file (or the
+// reverse) is a copy mistake.
+void expectSensorType(const YamlFile& yaml, const std::string& path, const std::string& expected) {
+  if (!yaml.has("sensor_type")) return;
+  const std::string type = yaml.text("sensor_type");
+  if (type != expected) {
+    throw InputError(path + ": key 'sensor_type': '" + type + "', expected '" + expected + "' for this folder");
+  }
+}
+
 void writeText(const std::string& path, const std::string& text) {
   std::ofstream file(path, std::ios::binary | std::ios::trunc);
   file << text;
@@ -140,6 +150,7 @@ void writeText(const std::string& path, const std::string& text) {
 
 CameraCalibration SensorYaml::readCamera(const std::string& path, const std::string& name) {
   const YamlFile yaml(path);
+  expectSensorType(yaml, path, "camera");
   CameraCalibration calibration;
   calibration.name = name;
   calibration.T_BC = yaml.transform("T_BS");
@@ -158,7 +169,19 @@ CameraCalibration SensorYaml::readCamera(const std::string& path, const std::str
       yaml.fail(res_node, "resolution", "must be two positive integers [width, height]");
     }
   }
-  const std::vector<double> in = yaml.numbers(yaml.require("intrinsics"), "intrinsics", 4, 4);
+  const YAML::Node in_node = yaml.require("intrinsics");
+  const std::vector<double> in = yaml.numbers(in_node, "intrinsics", 4, 4);
+  // The principal point of a real lens sits inside its image, and a focal length beyond 100 image
+  // widths is a unit slip: both would run and silently lose every feature.
+  if (in[2] < 0 || in[2] > res[0] || in[3] < 0 || in[3] > res[1]) {
+    yaml.fail(in_node, "intrinsics", "principal point (" + std::to_string(in[2]) + ", " + std::to_string(in[3]) +
+                                         ") lies outside the " + std::to_string(static_cast<int>(res[0])) + "x" +
+                                         std::to_string(static_cast<int>(res[1])) + " image");
+  }
+  if (in[0] > 100 * res[0] || in[1] > 100 * res[0]) {
+    yaml.fail(in_node, "intrinsics", "focal length (" + std::to_string(in[0]) + ", " + std::to_string(in[1]) +
+                                         ") is more than 100 image widths");
+  }
   DistortionModel model;
   const std::string model_name = yaml.text("distortion_model");  // its errors name the file already
   try {
@@ -200,6 +223,7 @@ CameraCalibration SensorYaml::readCamera(const std::string& path, const std::str
 
 ImuCalibration SensorYaml::readImu(const std::string& path, const std::string& name) {
   const YamlFile yaml(path);
+  expectSensorType(yaml, path, "imu");
   ImuCalibration calibration;
   calibration.name = name;
   calibration.T_BS = yaml.transform("T_BS");

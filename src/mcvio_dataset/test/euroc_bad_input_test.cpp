@@ -135,6 +135,17 @@ TEST_F(EurocBadInput, ImuNaN) {
   EXPECT_CONTAINS(message, "not finite");
 }
 
+TEST_F(EurocBadInput, ImuImplausibleMagnitude) {
+  replaceLine(mav0_ + "/imu0/data.csv", 7, std::to_string(seq_.imu[5].t) + ",0.1,0.2,0.3,0.4,1e308,0.6");
+  std::string message = openError();
+  EXPECT_CONTAINS(message, mav0_ + "/imu0/data.csv:7:");
+  EXPECT_CONTAINS(message, "acceleration");
+  replaceLine(mav0_ + "/imu0/data.csv", 7, std::to_string(seq_.imu[5].t) + ",0.1,5729.6,0.3,0.4,0.5,0.6");
+  message = openError();
+  EXPECT_CONTAINS(message, "angular velocity");
+  EXPECT_CONTAINS(message, "degrees instead of radians");
+}
+
 TEST_F(EurocBadInput, ImuTruncatedLastLine) {
   writeText(mav0_ + "/imu0/data.csv",
             readText(mav0_ + "/imu0/data.csv") + std::to_string(seq_.imu.back().t + 5) + ",0.1,0.");

@@ -62,6 +62,29 @@ TEST(SensorYaml, PinholeWithoutDistortionRoundTrips) {
   EXPECT_EQ(back.T_BC.matrix(), cam.T_BC.matrix());
 }
 
+// Values that parse but cannot describe a real camera would run and lose every feature.
+TEST(SensorYaml, RejectsImplausibleIntrinsicsAndTheWrongSensorType) {
+  const std::string path = test::freshDir("yaml_implausible") + "/sensor.yaml";
+  const std::pair<std::string, std::string> cases[] = {
+      {"[400, 401, 320, 240]", "[400, 401, 5000, -3000]"},  // principal point outside the image
+      {"[400, 401, 320, 240]", "[1e300, 1e300, 320, 240]"},  // focal length
+      {"sensor_type: camera", "sensor_type: imu"},
+  };
+  const char* expected[] = {"principal point", "focal length", "expected 'camera'"};
+  for (std::size_t i = 0; i < 3; ++i) {
+    std::string text = kCameraYaml;
+    text.replace(text.find(cases[i].first), cases[i].first.size(), cases[i].second);
+    test::writeText(path, text);
+    try {
+      SensorYaml::readCamera(path, "left");
+      ADD_FAILURE() << "accepted " << cases[i].second;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(expected[i]), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(SensorYaml, RejectsNonIntegerResolution) {
   const std::string path = test::freshDir("yaml_resolution") + "/sensor.yaml";
   std::string text = kCameraYaml;

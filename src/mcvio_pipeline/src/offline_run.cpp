@@ -454,10 +454,22 @@ void checkImuCoverage(const OfflineInput& data, const std::string& source) {
   }
 }
 
+// The output folder is made before the input is read (a bag is read whole first), so a bad --out
+// is reported at once.
+void makeOutputFolder(const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir)) {
+    throw InputError("output folder '" + dir + "': " + (ec ? "cannot create it (" + ec.message() + ")" : "exists and is not a folder"));
+  }
+}
+
 }  // namespace
 
 OfflineRunSummary runOffline(const OfflineRunOptions& options) {
   namespace fs = std::filesystem;
+  makeOutputFolder(options.output_dir);
   const fs::path p(options.dataset_dir);
   const bool is_bag = bag::BagReader::looksLikeBag(p);
   return runOffline(is_bag ? readBag(options) : readEuroc(options), options);
@@ -475,7 +487,7 @@ OfflineRunSummary runOffline(const OfflineInput& data, const OfflineRunOptions& 
       options.config_file.empty() ? VioPipelineOptions::shipped() : VioPipelineOptions::fromYamlFile(options.config_file);
   if (!options.mode.empty())
     vio_options.estimator.conflict.mode = conflict::resolutionModeFromString(options.mode, "mcvio run --mode");
-  fs::create_directories(options.output_dir);
+  makeOutputFolder(options.output_dir);
   const double data_seconds = toSeconds(data.frame_times.back() - data.frame_times.front());
   RunRecorder rec(options.output_dir + "/trajectory.tum", data.frame_times.size(), options, data_seconds);
 

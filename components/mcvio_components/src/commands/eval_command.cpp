@@ -1,3 +1,4 @@
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -126,6 +127,13 @@ void addEvalCommand(CLI::App& app, CommandContext&) {
     }
     if (opt->suspected_positive) o.detection.suspected_is_positive = true;
     o.validate();
+    // A folder that cannot be written should say so now, not after every run was read.
+    try {
+      fs::create_directories(opt->out);
+    } catch (const fs::filesystem_error& e) {
+      throw InputError("--out " + opt->out + ": cannot create the report folder (" + e.code().message() + ")");
+    }
+    if (!fs::is_directory(opt->out)) throw InputError("--out " + opt->out + ": exists and is not a folder");
 
     const ev::Trajectory gt = ev::loadTrajectory(opt->gt);
     std::optional<ev::ConflictLabelTimeline> labels;
@@ -151,6 +159,14 @@ void addEvalCommand(CLI::App& app, CommandContext&) {
     }
     if (!opt->quiet) std::cout << ev::ReportWriter::toMarkdown(report);
     for (const auto& e : report.estimates) {
+      // An alignment fitted to a pose or two fits it exactly: an ATE of zero says nothing.
+      if (e.ate_se3.translation.count < 3) {
+        std::cerr << "mcvio eval: warning: " << e.name << ": only " << e.ate_se3.translation.count
+                  << " pose(s) matched the ground truth; the aligned ATE of fewer than 3 poses is meaningless\n";
+      } else if (!std::isfinite(e.ate_se3.translation.rmse) || !std::isfinite(e.ate_posyaw.translation.rmse)) {
+        std::cerr << "mcvio eval: warning: " << e.name
+                  << ": the ATE is not finite (positions too large to align, e.g. a diverged run)\n";
+      }
       if (e.ate_se3.unmatched > 0) {
         std::cerr << "mcvio eval: warning: " << e.name << ": " << e.ate_se3.unmatched << " of " << e.poses
                   << " poses have no ground truth (outside its time span or in a gap) and are not evaluated\n";
