@@ -30,5 +30,9 @@ expect 2 "domain id 233 is out of range" -- "$mcvio" --domain 233 topics
 expect 2 "domain id -1 is out of range" -- "$mcvio" --domain -1 nodes
 expect 2 "unknown type 'foo_msgs/msg/Bar'" -- "$mcvio" --domain "$domain" echo /imu0 --type foo_msgs/msg/Bar
 expect 1 "no publisher of /nothing_here" -- "$mcvio" --domain "$domain" echo /nothing_here --timeout 1
-expect 106 "A subcommand is required" -- "$mcvio" no_such_command
+expect 2 "unknown command 'no_such_command' (commands: topics" -- "$mcvio" no_such_command
+expect 2 "unknown command 'no_such_command'" -- "$mcvio" --domain "$domain" no_such_command
+expect 106 "A subcommand is required" -- "$mcvio" --domain "$domain"
+touch "$tmp/a_file"
+expect 2 "output folder '$tmp/a_file/out': cannot create it" -- "$mcvio" run --dataset "$tmp/missing" --out "$tmp/a_file/out"
 exit $failed
