@@ -94,8 +94,8 @@ McapRepairReport McapRepairer::repair(const std::filesystem::path& path) {
       // Messages outside chunks are counted per channel from the reader's topics.
       stats.channel_message_counts.clear();
     }
-    if (!report.damage.empty()) {
-      // Bytes are dropped: build the repaired file beside the original from the kept stretches
+    if (report.damaged()) {
+      // Damage inside the data: build the repaired file beside the original from the kept stretches
       // (everything before validEnd() but the holes) and move offsets accordingly.
       struct Kept {
         std::uint64_t begin, end, new_begin;
@@ -136,7 +136,7 @@ McapRepairReport McapRepairer::repair(const std::filesystem::path& path) {
       crc = Crc32::update(0, r.data(), valid_end);
     }
   }  // unmap before rewriting or renaming the file
-  if (!report.damage.empty()) {
+  if (report.damaged()) {
     try {
       McapReader check(tmp, McapReadMode::Strict);  // prove the result reads back strictly
       check.verifyChunks();
@@ -149,7 +149,8 @@ McapRepairReport McapRepairer::repair(const std::filesystem::path& path) {
     std::filesystem::rename(tmp, path);
     return report;
   }
-  // Nothing recorded is dropped (at most an old summary): finish the file in place.
+  // Nothing readable is dropped (at most an old summary, or the unfinished record a killed
+  // recorder left at the end): finish the file in place, without a copy of a large bag.
   detail::FileOutput out(path, valid_end, crc);
   if (append_last_index) appendMissingIndexes(out, chunks.back());
   report.kept_bytes = valid_end;

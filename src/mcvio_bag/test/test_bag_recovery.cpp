@@ -96,6 +96,8 @@ TEST(Recovery, TruncatedMcapKeepsEveryCompleteChunk) {
       }
       const BagMetadata md = BagReindexer::reindex(dir);
       EXPECT_EQ(md.message_count, expected) << "cut " << cut;
+      // Only an unfinished end: repaired in place, no copy of the original left behind.
+      EXPECT_FALSE(std::filesystem::exists(dir / (mcap_name + ".orig"))) << "cut " << cut;
       McapReader repaired(dir / mcap_name);
       EXPECT_TRUE(repaired.usedSummary());
       // Chunks and the rosbag2 Metadata record (written at close) survive a damaged summary.

@@ -91,8 +91,9 @@ void addBagCommand(CLI::App& app, CommandContext&) {
       "Rebuild metadata.yaml and the MCAP summary/indexes of a bag whose recorder was killed or whose\n"
       "files are damaged. Every chunk is checked (CRC, records, indexes); every intact chunk is kept,\n"
       "also those after a damaged one. Damaged records and a killed writer's unfinished last record\n"
-      "are dropped and reported (byte offset, size, messages lost if known). A file that loses bytes\n"
-      "is rewritten beside it and the untouched original kept as <file>.orig. sqlite3: write-ahead\n"
+      "are dropped and reported (byte offset, size, messages lost if known). A file with damage inside\n"
+      "is rewritten beside it and the untouched original kept as <file>.orig; a killed writer's file is\n"
+      "finished in place (its unfinished last record cannot be read anyway). sqlite3: write-ahead\n"
       "logs are folded in (every committed transaction is kept).\n"
       "Exit status 1 when damaged data was dropped (the bag is readable again), 0 otherwise.");
   reindex->add_option("bag", *path, "bag directory")->required();
