@@ -428,10 +428,10 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   const bool was_active = conflictActive();
   d.report.evidence_score = evidence ? std::max(score, 1.0) : scored ? score : std::numeric_limits<double>::quiet_NaN();
   const auto state = tracker_.update(t, evidence, tested, d.report.evidence_score);
-  // The landmark detector's verdicts eliminate only around detected conflicts: its false verdicts
-  // on a clean sequence would cost landmarks the reference keeps. The frontend's labels may act on
-  // every frame (frontend_labels_outside_conflicts). Inside an IMU-dominated interval every
-  // landmark disagrees with the inertial motion; that says nothing about which of them move.
+  // Elimination acts only around detected conflicts, so a clean sequence keeps every landmark (and
+  // the reference's accuracy); the frontend's labels may act on every frame if asked
+  // (frontend_labels_outside_conflicts). Inside an IMU-dominated interval every landmark
+  // disagrees with the inertial motion; that says nothing about which of them move.
   const bool in_interval = state != conflict::ConflictIntervalTracker::State::kNone;
   if (selective_active && !imu_dominated_) {
     if (in_interval)
