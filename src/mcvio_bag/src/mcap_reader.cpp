@@ -112,16 +112,11 @@ void McapReader::load(McapReadMode mode) {
            "truncated or unfinished MCAP file (no Footer record and trailing magic; "
            "`mcvio bag reindex` recovers its complete chunks)");
     }
-    const std::uint64_t footer_pos = size_ - mcap::kFooterAndMagic;
-    const std::uint8_t* f = data_ + footer_pos + mcap::kRecordPrefix;
-    const std::uint64_t summary_start = readU64(f);
-    const std::uint64_t summary_offset_start = readU64(f + 8);
-    std::uint32_t summary_crc;
-    std::memcpy(&summary_crc, f + 16, 4);
-    if (summary_start != 0) {
-      loadSummary(footer_pos, summary_start, summary_offset_start, summary_crc);
+    const Footer f = footer();
+    if (f.summary_start != 0) {
+      loadSummary(f.pos, f.summary_start, f.summary_offset_start, f.summary_crc);
     } else {
-      linearScan(mode, footer_pos);
+      linearScan(mode, f.pos);
     }
   }
   finishTopics();
@@ -298,14 +293,23 @@ void McapReader::acceptChunk(std::uint64_t pos, std::uint64_t len, bool strict,
   }
 }
 
+McapReader::Footer McapReader::footer() const {
+  Footer out;
+  out.pos = size_ - mcap::kFooterAndMagic;
+  const std::uint8_t* f = data_ + out.pos + mcap::kRecordPrefix;
+  out.summary_start = readU64(f);
+  out.summary_offset_start = readU64(f + 8);
+  std::memcpy(&out.summary_crc, f + 16, 4);
+  return out;
+}
+
 void McapReader::preloadSummaryDefinitions() {
   // Recover mode: an intact summary holds a copy of every Schema and Channel record.
-  const std::uint64_t footer_pos = size_ - mcap::kFooterAndMagic;
-  const std::uint8_t* f = data_ + footer_pos + mcap::kRecordPrefix;
-  const std::uint64_t start = readU64(f);
-  const std::uint64_t offsets = readU64(f + 8);
-  std::uint32_t crc;
-  std::memcpy(&crc, f + 16, 4);
+  const Footer footer_fields = footer();
+  const std::uint64_t footer_pos = footer_fields.pos;
+  const std::uint64_t start = footer_fields.summary_start;
+  const std::uint64_t offsets = footer_fields.summary_offset_start;
+  const std::uint32_t crc = footer_fields.summary_crc;
   if (start < 8 + mcap::kRecordPrefix || start > footer_pos) return;
   const std::uint64_t crc_end = footer_pos + mcap::kRecordPrefix + 16;
   if (crc != 0 && Crc32::update(0, data_ + start, crc_end - start) != crc) return;

@@ -36,6 +36,20 @@ void expectPrefix(const std::vector<BagMessage>& got, std::size_t n) {
   }
 }
 
+/// Writes 120 messages in small chunks to `<dir>/<dir name>_0.mcap` and returns that file.
+std::filesystem::path writeChunkedBag(const std::filesystem::path& dir, Compression c) {
+  BagWriterOptions o;
+  o.compression = c;
+  o.chunk_size = 4096;
+  {
+    BagWriter w(dir, o);
+    w.addTopic(test::stringTopic("/a"));
+    w.addTopic(test::stringTopic("/b"));
+    for (int i = 0; i < 120; ++i) writeMessage(w, i);
+  }
+  return dir / (dir.filename().string() + "_0.mcap");
+}
+
 void truncateFile(const std::filesystem::path& p, std::uint64_t size) {
   std::filesystem::resize_file(p, size);
 }
@@ -45,16 +59,7 @@ void truncateFile(const std::filesystem::path& p, std::uint64_t size) {
 TEST(Recovery, TruncatedMcapKeepsEveryCompleteChunk) {
   for (Compression c : {Compression::None, Compression::Zstd, Compression::Lz4}) {
     const auto src = test::freshPath("trunc_src_" + toString(c));
-    BagWriterOptions o;
-    o.compression = c;
-    o.chunk_size = 4096;
-    {
-      BagWriter w(src, o);
-      w.addTopic(test::stringTopic("/a"));
-      w.addTopic(test::stringTopic("/b"));
-      for (int i = 0; i < 120; ++i) writeMessage(w, i);
-    }
-    const auto mcap_name = src.filename().string() + "_0.mcap";
+    const auto mcap_name = writeChunkedBag(src, c).filename().string();
     McapReader intact(src / mcap_name);
     const auto chunks = intact.chunks();
     ASSERT_GT(chunks.size(), 8u);
@@ -193,20 +198,6 @@ TEST(Recovery, Kill9WhileWriting) {
     expectPrefix(got, got.size());
     EXPECT_GE(got.size(), static_cast<std::size_t>(flushed));
   }
-}
-
-/// Writes 120 messages in small chunks to `<dir>/<dir name>_0.mcap` and returns that file.
-std::filesystem::path writeChunkedBag(const std::filesystem::path& dir, Compression c) {
-  BagWriterOptions o;
-  o.compression = c;
-  o.chunk_size = 4096;
-  {
-    BagWriter w(dir, o);
-    w.addTopic(test::stringTopic("/a"));
-    w.addTopic(test::stringTopic("/b"));
-    for (int i = 0; i < 120; ++i) writeMessage(w, i);
-  }
-  return dir / (dir.filename().string() + "_0.mcap");
 }
 
 void flipByte(const std::filesystem::path& p, std::uint64_t offset) {

@@ -82,6 +82,12 @@ class McapReader : public StorageFileReader {
   };
   static constexpr std::uint32_t kNoChunk = 0xFFFFFFFFu;
 
+  /// The Footer record's fields (the caller has checked that the file ends in one).
+  struct Footer {
+    std::uint64_t pos = 0, summary_start = 0, summary_offset_start = 0;
+    std::uint32_t summary_crc = 0;
+  };
+  Footer footer() const;
   void load(McapReadMode mode);
   void loadSummary(std::uint64_t footer_pos, std::uint64_t summary_start,
                    std::uint64_t summary_offset_start, std::uint32_t summary_crc);
