@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "mcvio/core/input_error.hpp"
+#include "mcvio/core/yaml_file.hpp"
 
 namespace mcvio::bag {
 
@@ -27,13 +28,7 @@ void BagWriterOptions::validate() const {
 }
 
 BagWriterOptions BagWriterOptions::fromYaml(const std::string& yaml, const std::string& source) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml);
-  } catch (const YAML::Exception& e) {
-    throw InputError(source + ": not valid YAML (line " + std::to_string(e.mark.line + 1) +
-                     "): " + e.msg);
-  }
+  const YAML::Node root = parseYamlText(yaml, source);
   BagWriterOptions o;
   if (root.IsNull()) return o;
   if (!root.IsMap()) throw InputError(source + ": bag writer options must be a YAML map");

@@ -4,9 +4,11 @@
 
 #include <cmath>
 #include <fstream>
+#include <sstream>
 #include <vector>
 
 #include "mcvio/core/input_error.hpp"
+#include "mcvio/core/yaml_file.hpp"
 #include "number_format.hpp"
 
 namespace mcvio::dataset {
@@ -20,14 +22,7 @@ using detail::formatDouble;
 class YamlFile {
  public:
   explicit YamlFile(std::string path) : path_(std::move(path)) {
-    try {
-      root_ = YAML::LoadFile(path_);
-    } catch (const YAML::BadFile&) {
-      throw InputError(path_ + ": cannot open file (missing or unreadable)");
-    } catch (const YAML::ParserException& e) {
-      throw InputError(path_ + ":" + std::to_string(e.mark.line + 1) +
-                       ": YAML syntax error: " + e.msg);
-    }
+    root_ = loadYamlFile(path_, "file");
     if (!root_.IsMap()) throw InputError(path_ + ": expected a YAML map of sensor keys");
   }
 
@@ -217,6 +212,41 @@ CameraCalibration SensorYaml::readCamera(const std::string& path, const std::str
                     Eigen::Vector4d(in[0], in[1], in[2], in[3]), model, coefficients);
   } catch (const InputError& e) {
     throw InputError(path + ": " + e.what());
+  }
+  // Coefficients a real lens produces invert over the middle of its image; a unit or sign slip
+  // (k1 = 1e6) folds the model there, and the run would lose most features without a word.
+  // Only the central half is checked: wide fisheye corners can lie beyond the model's 90 degrees.
+  if (model != DistortionModel::kNone) {
+    const CameraModel& m = calibration.model;
+    const Eigen::Vector2d centre(in[2], in[3]);
+    const Eigen::Vector2d half_reach[4] = {{-0.5 * in[2], 0.0}, {0.5 * (res[0] - in[2]), 0.0},
+                                           {0.0, -0.5 * in[3]}, {0.0, 0.5 * (res[1] - in[3])}};
+    constexpr int kSteps = 16;
+    for (const Eigen::Vector2d& reach : half_reach) {
+      for (int i = 1; i <= kSteps; ++i) {
+        const Eigen::Vector2d pixel = centre + reach * (static_cast<double>(i) / kSteps);
+        Eigen::Vector2d normalized, back;
+        const bool inverts = m.unproject(pixel, &normalized) &&
+                             m.projectAnywhere(Eigen::Vector3d(normalized.x(), normalized.y(), 1.0), &back) &&
+                             (back - pixel).norm() < 0.01;
+        std::ostringstream os;
+        if (!inverts) {
+          os << "cannot be inverted at pixel (" << pixel.x() << ", " << pixel.y()
+             << ") in the central half of the image: the " << model_name
+             << " model folds over there and features would be lost (a unit or sign slip?)";
+        } else {
+          // Real lenses, fisheyes included, stretch the middle of the image by well under 5x.
+          const double scale = m.pixelToDistorted(pixel).norm() / normalized.norm();
+          if (scale > 5.0 || scale < 0.2) {
+            os << "scale the ray through pixel (" << pixel.x() << ", " << pixel.y() << ") by " << scale
+               << ", in the central half of the image; a real lens stays within 0.2-5 there (a unit or sign slip?)";
+          }
+        }
+        if (!os.str().empty()) {
+          yaml.fail(yaml.require("distortion_coefficients"), "distortion_coefficients", os.str());
+        }
+      }
+    }
   }
   return calibration;
 }

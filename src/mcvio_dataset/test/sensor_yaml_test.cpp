@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <iterator>
+
 #include "mcvio/core/input_error.hpp"
 #include "test_sequence.hpp"
 
@@ -69,9 +71,15 @@ TEST(SensorYaml, RejectsImplausibleIntrinsicsAndTheWrongSensorType) {
       {"[400, 401, 320, 240]", "[400, 401, 5000, -3000]"},  // principal point outside the image
       {"[400, 401, 320, 240]", "[1e300, 1e300, 320, 240]"},  // focal length
       {"sensor_type: camera", "sensor_type: imu"},
+      {"[-0.1, 0.01,", "[1e6, 0.01,"},                     // k1 folds the model near the centre
+      {"[-0.1, 0.01,", "[-0.1, -40,"},                     // k2 folds it inside the central half
+      {"rate_hz: 30\n", "rate_hz: 30\nrate_hz: 20\n"},  // the second would be ignored
   };
-  const char* expected[] = {"principal point", "focal length", "expected 'camera'"};
-  for (std::size_t i = 0; i < 3; ++i) {
+  const char* expected[] = {"principal point", "focal length", "expected 'camera'",
+                            "distortion_coefficients' scale the ray through pixel",
+                            "distortion_coefficients' cannot be inverted",
+                            ":11: key 'rate_hz' appears twice (first at line 10)"};
+  for (std::size_t i = 0; i < std::size(cases); ++i) {
     std::string text = kCameraYaml;
     text.replace(text.find(cases[i].first), cases[i].first.size(), cases[i].second);
     test::writeText(path, text);
@@ -83,6 +91,18 @@ TEST(SensorYaml, RejectsImplausibleIntrinsicsAndTheWrongSensorType) {
       EXPECT_NE(std::string(e.what()).find(expected[i]), std::string::npos) << e.what();
     }
   }
+}
+
+TEST(SensorYaml, AcceptsAWideFisheyeWhoseCornersLieBeyondNinetyDegrees) {
+  // TUM-VI-like: 512x512 equidistant, about 195 degrees across the diagonal.
+  const std::string path = test::freshDir("yaml_fisheye") + "/sensor.yaml";
+  std::string text = kCameraYaml;
+  text.replace(text.find("[640, 480]"), 10, "[512, 512]");
+  text.replace(text.find("[400, 401, 320, 240]"), 20, "[190.98, 190.97, 254.93, 256.90]");
+  text.replace(text.find("radtan"), 6, "equidistant");
+  text.replace(text.find("[-0.1, 0.01, 0.001, -0.002, 0.0]"), 32, "[0.00348, 0.000715, -0.00205, 0.000203]");
+  test::writeText(path, text);
+  EXPECT_EQ(SensorYaml::readCamera(path, "cam0").model.distortionModel(), DistortionModel::kEquidistant);
 }
 
 TEST(SensorYaml, RejectsNonIntegerResolution) {

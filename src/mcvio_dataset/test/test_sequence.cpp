@@ -26,7 +26,7 @@ StereoRigCalibration makeRig() {
   rig.cam0.T_BC.translation() = Eigen::Vector3d(-0.0216401454975, -0.064676986768, 0.1 / 3.0);
   rig.cam1.name = "cam1";
   rig.cam1.model =
-      CameraModel(64, 48, {40.0 / 3.0, 40.0 / 7.0, 32.0, 24.0}, DistortionModel::kEquidistant,
+      CameraModel(64, 48, {100.0 / 3.0, 200.0 / 7.0, 32.0, 24.0}, DistortionModel::kEquidistant,
                   {0.0034823894, 0.000715034, -0.0020532361, 0.00020293673});
   rig.cam1.rate_hz = 20.0;
   rig.cam1.T_BC.linear() =

@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "mcvio/core/input_error.hpp"
+#include "mcvio/core/yaml_file.hpp"
 
 namespace mcvio::estimator {
 
@@ -173,14 +174,7 @@ EstimatorOptions EstimatorOptions::fromYaml(const YAML::Node& node, const std::s
 }
 
 EstimatorOptions EstimatorOptions::fromYamlFile(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw InputError(path + ": cannot open estimator options file");
-  } catch (const YAML::Exception& e) {
-    throw InputError(path + ": malformed YAML (" + e.what() + ")");
-  }
+  const YAML::Node root = loadYamlFile(path, "estimator options file");
   if (root.IsMap() && root["estimator"]) return fromYaml(root["estimator"], path);
   return fromYaml(root, path);
 }

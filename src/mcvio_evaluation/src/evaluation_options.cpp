@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "mcvio/core/input_error.hpp"
+#include "mcvio/core/yaml_file.hpp"
 
 namespace mcvio::evaluation {
 
@@ -32,14 +33,7 @@ void rejectUnknown(const YAML::Node& map, const std::set<std::string>& known, co
 }  // namespace
 
 EvaluationOptions EvaluationOptions::fromYamlFile(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw InputError(path + ": cannot open file (missing or unreadable)");
-  } catch (const YAML::Exception& e) {
-    throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
-  }
+  const YAML::Node root = loadYamlFile(path, "file");
   EvaluationOptions o;
   if (!root || root.IsNull()) return o;
   if (!root.IsMap()) throw InputError(path + ": expected a map of evaluation options");

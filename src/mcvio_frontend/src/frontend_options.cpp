@@ -7,6 +7,7 @@
 #include <map>
 
 #include "mcvio/core/input_error.hpp"
+#include "mcvio/core/yaml_file.hpp"
 
 namespace mcvio::frontend {
 namespace {
@@ -122,14 +123,7 @@ FrontendOptions FrontendOptions::fromYaml(const YAML::Node& node, const std::str
 }
 
 FrontendOptions FrontendOptions::fromFile(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw InputError(path + ": cannot open frontend options file");
-  } catch (const YAML::Exception& e) {
-    throw InputError(path + ": malformed YAML: " + e.what());
-  }
+  const YAML::Node root = loadYamlFile(path, "frontend options file");
   if (root.IsMap() && root["frontend"]) return fromYaml(root["frontend"], path);
   return fromYaml(root, path);
 }

@@ -6,6 +6,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "mcvio/core/input_error.hpp"
+#include "mcvio/core/yaml_file.hpp"
 #include "shipped_config.hpp"
 
 namespace mcvio::pipeline {
@@ -38,18 +39,12 @@ VioPipelineOptions fromYaml(const YAML::Node& root, const std::string& where) {
 }  // namespace
 
 VioPipelineOptions VioPipelineOptions::fromYamlFile(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw InputError(path + ": " + e.what());
-  }
-  return fromYaml(root, path);
+  return fromYaml(loadYamlFile(path, "pipeline config file"), path);
 }
 
 VioPipelineOptions VioPipelineOptions::shipped() {
   // Parsed once: the text is compiled in and cannot change.
-  static const VioPipelineOptions options = fromYaml(YAML::Load(kShippedConfigYaml), "built-in config/vio_pipeline.yaml");
+  static const VioPipelineOptions options = fromYaml(parseYamlText(kShippedConfigYaml, "built-in config/vio_pipeline.yaml"), "built-in config/vio_pipeline.yaml");
   return options;
 }
 

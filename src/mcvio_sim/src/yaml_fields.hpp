@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "mcvio/core/input_error.hpp"
+#include "mcvio/core/yaml_file.hpp"
 
 namespace mcvio::sim::detail {
 
@@ -78,14 +79,7 @@ class YamlFields {
 /// file, and YAML syntax errors also the line.
 template <class Parse>
 auto loadOptionsFile(const std::string& path, Parse parse) {
-  YAML::Node node;
-  try {
-    node = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw InputError(path + ": cannot open options file");
-  } catch (const YAML::Exception& e) {
-    throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
-  }
+  const YAML::Node node = loadYamlFile(path, "options file");
   try {
     return parse(node);
   } catch (const InputError& e) {

@@ -1,0 +1,22 @@
+#pragma once
+#include <string>
+
+#include <yaml-cpp/yaml.h>
+
+namespace mcvio {
+
+/// Loads a YAML file for an options or calibration reader. Throws mcvio::InputError naming the
+/// file: "<path>: cannot open <what> (missing or unreadable)", "<path>:<line>: YAML syntax
+/// error: ...", or "<path>:<line>: key 'k' appears twice ..." (see rejectDuplicateYamlKeys).
+YAML::Node loadYamlFile(const std::string& path, const std::string& what);
+
+/// The same for YAML text; `source` names where the text came from in messages.
+YAML::Node parseYamlText(const std::string& text, const std::string& source);
+
+/// yaml-cpp keeps both entries of a repeated map key and a lookup returns the first, so a second
+/// `max_features: 300` further down a file would be ignored without a word. Throws
+/// mcvio::InputError "<source>:<line>: key 'k' appears twice (first at line n)" for the first
+/// repeated key found anywhere in the tree.
+void rejectDuplicateYamlKeys(const YAML::Node& node, const std::string& source);
+
+}  // namespace mcvio
