@@ -309,12 +309,16 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
         if (split.fired) {
           score = std::max(score, split.chi2 / options_.split_chi2_threshold);
           auto against_static = landmark_detector_.test(pts, split.static_motion);
+          // Its static side agreeing with the IMU well inside the propagated test (a vehicle's
+          // sides both disagree, the static one at 17 of 20 when its interval opens). That alone
+          // tells a group beside a static world from a cabin, also on a frame where the
+          // landmark test against that side finds no more than against the IMU (a slow object
+          // whose tracks the frontend already removed; its interval then opened one frame
+          // earlier, on the propagated test alone, and went IMU-dominated).
+          split_group = split.static_chi2_imu < 0.5 * options_.propagated_chi2_threshold;
           if (against_static.inconsistent > lm.inconsistent && against_static.fraction < options_.whole_view_fraction) {
             lm = std::move(against_static);
             split_group_seen_ = true;
-            // Its static side agreeing with the IMU well inside the propagated test (a vehicle's
-            // sides both disagree, the static one at 17 of 20 when its interval opens).
-            split_group = split.static_chi2_imu < 0.5 * options_.propagated_chi2_threshold;
           }
         }
       }
