@@ -584,7 +584,7 @@ TEST(MotionConflictMonitor, FrontendLabelsEliminateAFewTracksOutsideAnyInterval)
     sc.points[static_cast<std::size_t>(i)].appear_s = frameSeconds(60);
   }
   conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
-  o.frontend_labels_outside_conflicts = true;
+  ASSERT_TRUE(o.frontend_labels_outside_conflicts) << "the default";
   ASSERT_LT(4, o.frontend_min_count);
   auto eliminated = [](const std::vector<Frame>& frames, int* first_frame) {
     std::set<std::uint64_t> ids;
@@ -602,8 +602,10 @@ TEST(MotionConflictMonitor, FrontendLabelsEliminateAFewTracksOutsideAnyInterval)
   EXPECT_EQ(eliminated(run(sc, o, 100), &first), (std::set<std::uint64_t>{0, 1, 2, 3}));
   EXPECT_EQ(first, 60 + o.selective_strikes - 1) << "after selective_strikes labelled frames";
 
-  // Off (the default), or in reference mode, the tracks stay until an interval opens.
-  EXPECT_TRUE(eliminated(run(sc, withMode(conflict::ResolutionMode::kAuto), 100), &first).empty());
+  // Off, or in reference mode, the tracks stay until an interval opens.
+  conflict::ConflictOptions off = o;
+  off.frontend_labels_outside_conflicts = false;
+  EXPECT_TRUE(eliminated(run(sc, off, 100), &first).empty());
   conflict::ConflictOptions reference = o;
   reference.mode = conflict::ResolutionMode::kReference;
   EXPECT_TRUE(eliminated(run(sc, reference, 100), &first).empty());
