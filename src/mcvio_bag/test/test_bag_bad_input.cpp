@@ -493,6 +493,9 @@ TEST(SqliteBadInput, DataThatIsNotABlob) {
     sqlExec(f, "UPDATE messages SET data=" + value + " WHERE id=9;");
     expectInputError([&] { test::readAll(dir); },
                      {f.string(), "messages row id 9 on /a", expected});
+    std::vector<std::string> w;
+    bagInfo(dir, &w);
+    EXPECT_TRUE(anyHas(w, {f.string(), "not a BLOB", "row id 9"})) << joined(w);
   }
 }
 
