@@ -303,35 +303,38 @@ bool SqliteReader::next(BagMessage& out) {
     const int rc = sqlite3_step(cursor_);
     if (rc == SQLITE_DONE) return false;
     if (rc != SQLITE_ROW) fail(std::string("reading messages: ") + sqlite3_errmsg(db_));
-    const std::string row = "messages row id " + std::to_string(sqlite3_column_int64(cursor_, 0));
+    // Error texts are built only on failure: this runs once per message.
+    const auto row = [this] {
+      return "messages row id " + std::to_string(sqlite3_column_int64(cursor_, 0));
+    };
     // Checked before the topic filter: a row of no known topic may be a lost message of the
     // selected ones, so it is never skipped silently.
     const int id_type = sqlite3_column_type(cursor_, 1);
     if (id_type != SQLITE_INTEGER) {
-      fail(row + ": topic_id is " + typeName(id_type) + ", not a topic id");
+      fail(row() + ": topic_id is " + typeName(id_type) + ", not a topic id");
     }
     const long long id = sqlite3_column_int64(cursor_, 1);
     const auto topic = topic_index_.find(id);
     if (topic == topic_index_.end()) {
-      fail(row + " refers to unknown topic id " + std::to_string(id));
+      fail(row() + " refers to unknown topic id " + std::to_string(id));
     }
     if (filtered_ && selected_.count(id) == 0) continue;
     out.topic = topics_[topic->second].name;
-    const std::string what = row + " on " + out.topic;
+    const auto what = [&] { return row() + " on " + out.topic; };
     const int time_type = sqlite3_column_type(cursor_, 2);
     if (time_type != SQLITE_INTEGER) {
-      fail(what + ": timestamp is " + typeName(time_type) +
+      fail(what() + ": timestamp is " + typeName(time_type) +
            " (expected INTEGER nanoseconds since the epoch)");
     }
     out.log_time = sqlite3_column_int64(cursor_, 2);
     if (out.log_time < 0) {
-      fail(what + ": negative timestamp " + std::to_string(out.log_time) + " ns");
+      fail(what() + ": negative timestamp " + std::to_string(out.log_time) + " ns");
     }
     out.publish_time = out.log_time;
     out.sequence = 0;
     const int data_type = sqlite3_column_type(cursor_, 3);
     if (data_type != SQLITE_BLOB) {
-      fail(what + " at " + std::to_string(out.log_time) + " ns: data is " + typeName(data_type) +
+      fail(what() + " at " + std::to_string(out.log_time) + " ns: data is " + typeName(data_type) +
            ", not a BLOB");
     }
     const auto* blob = static_cast<const std::uint8_t*>(sqlite3_column_blob(cursor_, 3));
@@ -342,7 +345,7 @@ bool SqliteReader::next(BagMessage& out) {
       static const std::uint8_t kZstd[4] = {0x28, 0xB5, 0x2F, 0xFD};
       static const std::uint8_t kLz4[4] = {0x04, 0x22, 0x4D, 0x18};
       if (n >= 4 && (std::memcmp(blob, kZstd, 4) == 0 || std::memcmp(blob, kLz4, 4) == 0)) {
-        fail(what + " at " + std::to_string(out.log_time) + " ns: data is a " +
+        fail(what() + " at " + std::to_string(out.log_time) + " ns: data is a " +
              (blob[0] == kZstd[0] ? "zstd" : "lz4") +
              " frame but metadata.yaml gives no message compression");
       }
@@ -351,7 +354,7 @@ bool SqliteReader::next(BagMessage& out) {
       try {
         Codec::decompressFrame(compression_, blob, n, kMaxMessageSize, out.data);
       } catch (const std::exception& e) {
-        fail("message at " + std::to_string(out.log_time) + " ns on " + out.topic + " (" + row +
+        fail("message at " + std::to_string(out.log_time) + " ns on " + out.topic + " (" + row() +
              ") does not decompress: " + e.what());
       }
     }
