@@ -65,7 +65,7 @@ void checkMagic(const std::filesystem::path& path) {
     // throw away every message a killed writer committed.
     throw InputError(path.string() + ": the file is empty but its write-ahead log " + wal.string() +
                      " (" + std::to_string(sizeOr0(wal)) +
-                     " bytes) holds the recording of a killed writer; not opened. "
+                     " bytes) may hold the recording of a killed writer; not opened. "
                      "`mcvio bag reindex` on the bag folder folds it in");
   }
   const std::string head = head16(path);
