@@ -5,6 +5,7 @@
 #include <map>
 #include <thread>
 
+#include "mcvio/core/input_error.hpp"
 #include "mcvio/core/progress_bar.hpp"
 #include "mcvio/dds/shutdown_signal.hpp"
 #include "mcvio/interfaces/type_names.hpp"
@@ -74,6 +75,12 @@ PlaybackSummary BagPlayer::run() {
       }
       auto it = pubs.find(m.topic);
       if (it == pubs.end()) continue;
+      // The DDS layer cannot send a payload without its 4-byte CDR header: a lossless write of
+      // one retried for 60 s and then blamed the reader.
+      if (m.data.size() < 4) {
+        throw InputError(reader.where(m) + ": payload of " + std::to_string(m.data.size()) +
+                         " bytes has no CDR header (4 bytes): it cannot be published");
+      }
       if (!it->second->publish(m.data)) {
         throw std::runtime_error("play: a lossless reader of " + m.topic + " stopped taking samples");
       }

@@ -7,7 +7,10 @@
 #include <set>
 #include <unistd.h>
 
+#include "mcvio/bag/bag_writer.hpp"
+#include "mcvio/components/bag_player.hpp"
 #include "mcvio/components/player.hpp"
+#include "mcvio/core/input_error.hpp"
 #include "mcvio/components/ros_conversions.hpp"
 #include "mcvio/dataset/euroc_writer.hpp"
 
@@ -129,4 +132,45 @@ TEST(Player, BadOptionsAreRejected) {
   o.rate = 1;
   o.start_s = -1;
   EXPECT_THROW(o.validate(), std::invalid_argument);
+}
+
+// A bag message with an empty payload (a damaged bag, or a foreign writer) used to make a lossless
+// playback retry it for 60 s and then blame the reader: it is an error naming file, topic and time.
+TEST(BagPlayer, PayloadWithoutCdrHeaderIsAnInputError) {
+  const std::string dir = ::testing::TempDir() + "/player_empty_payload_" + std::to_string(getpid());
+  std::filesystem::remove_all(dir);
+  {
+    bag::BagWriterOptions o;
+    o.storage = "sqlite3";
+    bag::BagWriter w(dir, o);
+    bag::TopicInfo t;
+    t.name = "/chatter";
+    t.type = "std_msgs/msg/String";
+    t.message_definition = "string data\n";
+    w.addTopic(t);
+    const std::vector<std::uint8_t> hello = {0, 1, 0, 0, 3, 0, 0, 0, 'h', 'i', 0, 0};
+    w.write("/chatter", 1000, 1000, hello.data(), hello.size());
+    w.write("/chatter", 2000, 2000, hello.data(), 0);
+  }
+  mcvio::dds::ParticipantOptions po;
+  po.domain_id = 100 + static_cast<int>((getpid() + 31) % 100);
+  auto participant = mcvio::dds::Participant::create(po);
+  components::PlayerOptions opts;
+  opts.lossless = true;
+  opts.progress = false;
+  opts.min_readers = 0;
+  components::BagPlayer player(participant->createNode("player"), dir, opts);
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    player.run();
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(dir), std::string::npos) << what;
+    EXPECT_NE(what.find("topic /chatter"), std::string::npos) << what;
+    EXPECT_NE(what.find("log time 2000 ns"), std::string::npos) << what;
+    EXPECT_NE(what.find("no CDR header"), std::string::npos) << what;
+  }
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(20));
+  std::filesystem::remove_all(dir);
 }

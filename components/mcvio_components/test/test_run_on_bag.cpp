@@ -10,6 +10,7 @@
 #include <thread>
 #include <unistd.h>
 
+#include "mcvio/bag/bag_metadata.hpp"
 #include "mcvio/components/player.hpp"
 #include "mcvio/components/recorder.hpp"
 #include "mcvio/pipeline/offline_run.hpp"
@@ -88,6 +89,19 @@ TEST(RunOnBag, RecordedPlaybackGivesTheSameTrajectoryAsTheDataset) {
     }
   }
   EXPECT_LT(max_diff, 1e-6);
+
+  // What the bag reader warns about (here metadata.yaml's type of /imu0 against the storage's)
+  // reaches the run's warnings and stats.json, as `mcvio play` prints it.
+  auto meta = bag::readBagMetadata(base + "/bag");
+  for (auto& t : meta.topics_with_message_count) {
+    if (t.topic.name == "/imu0") t.topic.type = "sensor_msgs/msg/MagneticField";
+  }
+  bag::writeBagMetadata(base + "/bag", meta);
+  from_bag.output_dir = base + "/from_bag_warned";
+  pipeline::runOffline(from_bag);
+  std::ifstream stats(from_bag.output_dir + "/stats.json");
+  const std::string json{std::istreambuf_iterator<char>(stats), std::istreambuf_iterator<char>()};
+  EXPECT_NE(json.find("topic /imu0: metadata.yaml says sensor_msgs/msg/MagneticField"), std::string::npos) << json;
 
   from_bag.calibration_dir.clear();
   EXPECT_THROW(pipeline::runOffline(from_bag), InputError);

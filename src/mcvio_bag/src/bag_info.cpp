@@ -93,10 +93,21 @@ std::string formatBagInfo(const BagMetadata& m, std::uint64_t bag_size_bytes) {
 
 namespace {
 
-/// Opens one storage file by its extension (summary only for MCAP: fast on big files).
-std::unique_ptr<StorageFileReader> openStorageFile(const std::filesystem::path& p) {
-  if (p.extension() == ".db3") return std::make_unique<SqliteReader>(p);
+/// Opens one storage file as `storage` says ("mcap" or "sqlite3"; summary only for MCAP: fast
+/// on big files). A file of the other storage is an InputError that says so.
+std::unique_ptr<StorageFileReader> openStorageFile(const std::filesystem::path& p,
+                                                   const std::string& storage,
+                                                   Compression compression = Compression::None) {
+  if (storage == "sqlite3") return std::make_unique<SqliteReader>(p, compression);
+  if (SqliteReader::looksLikeSqlite(p)) {
+    throw InputError(p.string() + ": is an sqlite3 database, but metadata.yaml's "
+                                  "storage_identifier (or the file's extension) says mcap");
+  }
   return std::make_unique<McapReader>(p, McapReadMode::Strict);
+}
+
+std::string storageOfExtension(const std::filesystem::path& p) {
+  return p.extension() == ".db3" ? "sqlite3" : "mcap";
 }
 
 /// What one storage file holds, as metadata.yaml would describe it.
@@ -128,7 +139,8 @@ std::string bagInfo(const std::filesystem::path& bag, std::vector<std::string>* 
     if (bag.extension() != ".mcap" && bag.extension() != ".db3") {
       throw InputError(bag.string() + ": unknown storage (expected a bag directory, .mcap or .db3)");
     }
-    const auto r = openStorageFile(bag);
+    const auto r = openStorageFile(bag, storageOfExtension(bag));
+    for (const auto& w : r->warnings()) warn.push_back(w);
     return formatBagInfo(describeFile(bag, *r), std::filesystem::file_size(bag));
   }
   const BagMetadata m = readBagMetadata(bag);
@@ -141,6 +153,17 @@ std::string bagInfo(const std::filesystem::path& bag, std::vector<std::string>* 
                      t.topic.serialization_format + "' (expected cdr)");
     }
   }
+  // sqlite3 bags compress each message as metadata.yaml says; reading fails otherwise.
+  Compression compression = Compression::None;
+  if (m.storage_identifier == "sqlite3" && m.compression_mode == "MESSAGE") {
+    try {
+      compression = compressionFromString(m.compression_format);
+    } catch (const std::invalid_argument& e) {
+      warn.push_back(md + ": compression_format: " + e.what());
+    }
+  } else if (m.compression_mode == "FILE") {
+    warn.push_back(md + ": compression_mode FILE (file-compressed bags) cannot be read");
+  }
   std::uint64_t size = 0;
   std::uint64_t stored_messages = 0;
   std::map<std::string, std::uint64_t> stored_counts;
@@ -151,17 +174,32 @@ std::string bagInfo(const std::filesystem::path& bag, std::vector<std::string>* 
     std::error_code ec;
     const auto s = std::filesystem::file_size(p, ec);
     if (ec) {
-      warn.push_back(p.string() + ": listed in metadata.yaml but missing");
+      warn.push_back(p.string() + (std::filesystem::exists(p)
+                                       ? ": listed in metadata.yaml but unreadable (" +
+                                             ec.message() + ")"
+                                       : ": listed in metadata.yaml but missing"));
       all_read = false;
       continue;
     }
     size += s;
     try {
-      const auto r = openStorageFile(p);
+      const auto r = openStorageFile(p, m.storage_identifier, compression);
+      for (const auto& w : r->warnings()) warn.push_back(w);
       const FileStatistics st = r->statistics();
       stored_messages += st.message_count;
       for (const auto& [t, n] : st.topic_message_counts) stored_counts[t] += n;
       for (const auto& t : r->topics()) stored_types.emplace(t.name, t.type);
+      for (const auto& f : m.files) {
+        if (f.path == rel && f.message_count != st.message_count) {
+          warn.push_back(md + ": files entry " + rel + " has " + std::to_string(f.message_count) +
+                         " messages but the file holds " + std::to_string(st.message_count));
+        }
+      }
+      if (m.storage_identifier == "sqlite3") {
+        // The first message shows whether the message compression and payloads are readable.
+        BagMessage first;
+        r->next(first);
+      }
     } catch (const std::exception& e) {
       warn.push_back(std::string(e.what()) + " (see `mcvio bag reindex " + bag.string() + "`)");
       all_read = false;
@@ -178,6 +216,15 @@ std::string bagInfo(const std::filesystem::path& bag, std::vector<std::string>* 
       warn.push_back(md + ": topic " + t.topic.name + " has " + std::to_string(t.message_count) +
                      " messages but the storage files hold " +
                      std::to_string(stored_counts[t.topic.name]));
+    }
+  }
+  for (const auto& [name, type] : stored_types) {
+    bool listed = false;
+    for (const auto& t : m.topics_with_message_count) listed = listed || t.topic.name == name;
+    if (!listed) {
+      warn.push_back(md + ": topic " + name + " (" + type + ", " +
+                     std::to_string(stored_counts[name]) +
+                     " messages) is in the storage files but not in metadata.yaml");
     }
   }
   if (all_read && stored_messages != m.message_count) {

@@ -76,12 +76,19 @@ void BagReader::openFiles(const std::vector<std::filesystem::path>& files,
   for (const auto& p : files) {
     std::unique_ptr<StorageFileReader> r;
     if (metadata_.storage_identifier == "mcap") {
+      // Otherwise the MCAP reader could only say "wrong magic".
+      if (SqliteReader::looksLikeSqlite(p)) {
+        throw InputError(p.string() +
+                         ": is an sqlite3 database, but metadata.yaml's storage_identifier (or "
+                         "the file's extension) says mcap");
+      }
       r = std::make_unique<McapReader>(
           p, o.allow_unfinished ? McapReadMode::Recover : McapReadMode::Strict);
     } else {
       r = std::make_unique<SqliteReader>(p, message_compression);
     }
     r->setTopicFilter(filter);
+    for (const auto& w : r->warnings()) warnings_.push_back(w);
     for (const auto& t : r->topics()) {
       if (seen.insert(t.name).second) topics_.push_back(t);
     }

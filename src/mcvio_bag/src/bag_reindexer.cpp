@@ -58,6 +58,17 @@ BagMetadata BagReindexer::reindex(const std::filesystem::path& bag_dir,
                      ": holds both .mcap and .db3 files; which storage is meant?");
   }
   auto files = mcaps.empty() ? dbs : mcaps;
+  if (have_old && log) {
+    // The new metadata.yaml lists what is there: say which listed files it leaves out.
+    for (const auto& rel : old.relative_file_paths) {
+      if (std::none_of(files.begin(), files.end(),
+                       [&](const auto& f) { return f.filename() == rel; })) {
+        log->push_back("WARNING: " + rel +
+                       " is listed in the old metadata.yaml but is not here: left out of the "
+                       "new one");
+      }
+    }
+  }
   std::sort(files.begin(), files.end(), [](const auto& a, const auto& b) {
     const long ia = splitIndex(a);
     const long ib = splitIndex(b);
@@ -111,7 +122,7 @@ BagMetadata BagReindexer::reindex(const std::filesystem::path& bag_dir,
       }
       reader = std::make_unique<McapReader>(path, McapReadMode::Strict);
     } else {
-      SqliteReader::recover(path);
+      const bool folded = SqliteReader::recover(path);
       auto sr = std::make_unique<SqliteReader>(path);
       if (!have_old) {
         // The file's own copy of the metadata knows the message compression.
@@ -127,7 +138,12 @@ BagMetadata BagReindexer::reindex(const std::filesystem::path& bag_dir,
           }
         }
       }
-      if (log) log->push_back(path.filename().string() + ": write-ahead log folded in");
+      if (log) {
+        log->push_back(path.filename().string() +
+                       (folded ? ": a killed writer's write-ahead log or journal folded in"
+                               : ": intact (no write-ahead log)"));
+        for (const auto& w : sr->warnings()) log->push_back("WARNING: " + w);
+      }
       reader = std::move(sr);
     }
     const FileStatistics s = reader->statistics();

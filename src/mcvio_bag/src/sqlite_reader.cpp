@@ -4,8 +4,8 @@
 
 #include <cstring>
 #include <fstream>
-#include <map>
 
+#include "mcvio/bag/mcap_records.hpp"
 #include "mcvio/core/input_error.hpp"
 
 namespace mcvio::bag {
@@ -15,6 +15,8 @@ namespace {
 constexpr char kSqliteMagic[16] = "SQLite format 3";  // 15 chars + NUL, as on disk
 /// Bound on one decompressed message, so a forged frame cannot exhaust memory.
 constexpr std::size_t kMaxMessageSize = std::size_t{1} << 31;
+/// The newest rosbag2 sqlite3 schema version this reader knows (Iron and later).
+constexpr long long kKnownSchemaVersion = 4;
 
 std::string columnText(sqlite3_stmt* st, int col) {
   const auto* t = sqlite3_column_text(st, col);
@@ -23,30 +25,110 @@ std::string columnText(sqlite3_stmt* st, int col) {
            : std::string();
 }
 
+std::string typeName(int sqlite_type) {
+  switch (sqlite_type) {
+    case SQLITE_INTEGER: return "an INTEGER";
+    case SQLITE_FLOAT: return "a REAL";
+    case SQLITE_TEXT: return "TEXT";
+    case SQLITE_BLOB: return "a BLOB";
+    default: return "NULL";
+  }
+}
+
+std::filesystem::path sibling(const std::filesystem::path& path, const char* suffix) {
+  std::filesystem::path p = path;
+  p += suffix;
+  return p;
+}
+
+std::uint64_t sizeOr0(const std::filesystem::path& p) {
+  std::error_code ec;
+  const auto n = std::filesystem::file_size(p, ec);
+  return ec ? 0 : n;
+}
+
+/// The first 16 bytes of the file ("" when shorter).
+std::string head16(const std::filesystem::path& path) {
+  char head[16] = {};
+  std::ifstream in(path, std::ios::binary);
+  in.read(head, 16);
+  return in.gcount() < 16 ? std::string() : std::string(head, 16);
+}
+
 void checkMagic(const std::filesystem::path& path) {
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
   if (ec) throw InputError(path.string() + ": cannot open (" + ec.message() + ")");
-  std::filesystem::path wal = path;
-  wal += "-wal";
-  if (size == 0 && std::filesystem::exists(wal)) return;  // everything still in the WAL
-  char head[16] = {};
-  std::ifstream in(path, std::ios::binary);
-  in.read(head, 16);
-  if (in.gcount() < 16 || std::memcmp(head, kSqliteMagic, 16) != 0) {
+  const auto wal = sibling(path, "-wal");
+  if (size == 0 && sizeOr0(wal) > 0) {
+    // sqlite deletes the write-ahead log of an empty database file when it opens it: that would
+    // throw away every message a killed writer committed.
+    throw InputError(path.string() + ": the file is empty but its write-ahead log " + wal.string() +
+                     " (" + std::to_string(sizeOr0(wal)) +
+                     " bytes) may hold the recording of a killed writer; not opened. "
+                     "`mcvio bag reindex` on the bag folder folds it in");
+  }
+  const std::string head = head16(path);
+  if (head.size() == 16 && std::memcmp(head.data(), mcap::kMagic, sizeof(mcap::kMagic)) == 0) {
+    throw InputError(path.string() +
+                     ": is an MCAP file, not an sqlite3 database (metadata.yaml's "
+                     "storage_identifier or the file's extension says sqlite3)");
+  }
+  if (head.size() < 16 || std::memcmp(head.data(), kSqliteMagic, 16) != 0) {
     throw InputError(path.string() + ": not an sqlite3 database (wrong magic at byte offset 0)");
   }
 }
 
+std::uint32_t bigEndian32(const std::uint8_t* p) {
+  return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) |
+         std::uint32_t{p[3]};
+}
+
+/// A killed writer can leave an empty .db3 beside a -wal that holds everything (page 1
+/// included). sqlite would delete such a log; writing the log's last committed copy of page 1
+/// into the .db3 lets sqlite replay the log itself (it checks the frames' checksums).
+/// Returns false when the log holds no committed page 1.
+bool restoreFirstPageFromWal(const std::filesystem::path& db, const std::filesystem::path& wal) {
+  std::ifstream in(wal, std::ios::binary);
+  std::vector<std::uint8_t> header(32);
+  if (!in.read(reinterpret_cast<char*>(header.data()), 32)) return false;
+  const std::uint32_t magic = bigEndian32(header.data());
+  const std::uint32_t page_size = bigEndian32(header.data() + 8);
+  if ((magic & 0xFFFFFFFEu) != 0x377f0682u || page_size < 512 || page_size > 65536 ||
+      (page_size & (page_size - 1)) != 0) {
+    return false;
+  }
+  std::vector<std::uint8_t> frame(24 + page_size);
+  std::vector<std::uint8_t> candidate;
+  std::vector<std::uint8_t> committed;
+  while (in.read(reinterpret_cast<char*>(frame.data()), static_cast<std::streamsize>(frame.size()))) {
+    // Frames of an older generation of the log carry other salts: they end the valid log.
+    if (std::memcmp(frame.data() + 8, header.data() + 16, 8) != 0) break;
+    if (bigEndian32(frame.data()) == 1) candidate.assign(frame.begin() + 24, frame.end());
+    if (bigEndian32(frame.data() + 4) != 0 && !candidate.empty()) committed = candidate;
+  }
+  if (committed.empty()) return false;
+  std::ofstream out(db, std::ios::binary | std::ios::trunc);
+  out.write(reinterpret_cast<const char*>(committed.data()),
+            static_cast<std::streamsize>(committed.size()));
+  return static_cast<bool>(out);
+}
+
 }  // namespace
+
+bool SqliteReader::looksLikeSqlite(const std::filesystem::path& path) {
+  const std::string head = head16(path);
+  return head.size() == 16 && std::memcmp(head.data(), kSqliteMagic, 16) == 0;
+}
 
 SqliteReader::SqliteReader(const std::filesystem::path& path, Compression message_compression)
     : name_(path.string()), compression_(message_compression) {
   checkMagic(path);
-  std::filesystem::path wal = path;
-  wal += "-wal";
-  // A file with a live WAL (killed writer) needs write access to replay it; otherwise read only.
-  const int flags = std::filesystem::exists(wal) ? SQLITE_OPEN_READWRITE : SQLITE_OPEN_READONLY;
+  // A file with a live WAL or a hot rollback journal (killed writer) needs write access to
+  // replay or roll it back; otherwise read only.
+  const bool leftover = std::filesystem::exists(sibling(path, "-wal")) ||
+                        std::filesystem::exists(sibling(path, "-journal"));
+  const int flags = leftover ? SQLITE_OPEN_READWRITE : SQLITE_OPEN_READONLY;
   if (sqlite3_open_v2(path.c_str(), &db_, flags, nullptr) != SQLITE_OK) {
     const std::string why = db_ ? sqlite3_errmsg(db_) : "out of memory";
     sqlite3_close(db_);
@@ -55,64 +137,50 @@ SqliteReader::SqliteReader(const std::filesystem::path& path, Compression messag
   }
   try {
     sqlite3_stmt* st = nullptr;
-    std::map<std::string, std::string> definitions;
-    bool has_hash = false;
-    bool has_definitions = false;
-    if (sqlite3_prepare_v2(db_, "SELECT name, sql FROM sqlite_master WHERE type='table';", -1, &st,
+    if (sqlite3_prepare_v2(db_, "SELECT name FROM sqlite_master WHERE type='table';", -1, &st,
                            nullptr) != SQLITE_OK) {
       fail(sqlite3_errmsg(db_));
     }
     std::set<std::string> tables;
     int rc;
-    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-      const std::string table = columnText(st, 0);
-      tables.insert(table);
-      if (table == "topics" &&
-          columnText(st, 1).find("type_description_hash") != std::string::npos) {
-        has_hash = true;
-      }
-    }
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW) tables.insert(columnText(st, 0));
     sqlite3_finalize(st);
     if (rc != SQLITE_DONE) fail(sqlite3_errmsg(db_));
     if (tables.count("topics") == 0 || tables.count("messages") == 0) {
       fail("not a rosbag2 sqlite3 file (no topics/messages tables)");
     }
-    has_definitions = tables.count("message_definitions") != 0;
-    if (has_definitions) {
-      if (sqlite3_prepare_v2(db_,
-                             "SELECT topic_type, encoding, encoded_message_definition FROM "
-                             "message_definitions;",
-                             -1, &st, nullptr) != SQLITE_OK) {
-        fail(sqlite3_errmsg(db_));
+    // Schema version 1 (Foxy and older) has no schema table; 2..4 name their version in it.
+    if (tables.count("schema")) {
+      if (sqlite3_prepare_v2(db_, "SELECT MAX(schema_version) FROM schema;", -1, &st, nullptr) ==
+          SQLITE_OK) {
+        if (sqlite3_step(st) == SQLITE_ROW) {
+          if (sqlite3_column_type(st, 0) == SQLITE_NULL) {
+            warnings_.push_back(name_ + ": the schema table holds no schema_version");
+          } else if (const long long v = sqlite3_column_int64(st, 0);
+                     v < 1 || v > kKnownSchemaVersion) {
+            warnings_.push_back(name_ + ": schema_version " + std::to_string(v) +
+                                " is not one of the known 1.." +
+                                std::to_string(kKnownSchemaVersion) +
+                                " (read as the newest known layout)");
+          }
+        }
+        sqlite3_finalize(st);
+      } else {
+        warnings_.push_back(name_ + ": the schema table has no schema_version column");
       }
-      while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        definitions[columnText(st, 0)] = columnText(st, 2);
+    }
+    const std::set<std::string> message_columns = columns("messages");
+    for (const char* c : {"topic_id", "timestamp", "data"}) {
+      if (message_columns.count(c) == 0) {
+        fail(std::string("table messages has no column ") + c +
+             " (not a rosbag2 file, or a damaged one)");
       }
-      sqlite3_finalize(st);
-      if (rc != SQLITE_DONE) fail(sqlite3_errmsg(db_));
     }
-    const std::string q = std::string("SELECT id, name, type, serialization_format, ") +
-                          "offered_qos_profiles" + (has_hash ? ", type_description_hash" : "") +
-                          " FROM topics ORDER BY id;";
-    if (sqlite3_prepare_v2(db_, q.c_str(), -1, &st, nullptr) != SQLITE_OK) {
-      fail(sqlite3_errmsg(db_));
-    }
-    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-      TopicInfo t;
-      topic_ids_.push_back(sqlite3_column_int64(st, 0));
-      t.name = columnText(st, 1);
-      t.type = columnText(st, 2);
-      t.serialization_format = columnText(st, 3);
-      t.offered_qos_profiles = columnText(st, 4);
-      if (has_hash) t.type_description_hash = columnText(st, 5);
-      if (auto it = definitions.find(t.type); it != definitions.end())
-        t.message_definition = it->second;
-      topics_.push_back(std::move(t));
-    }
-    sqlite3_finalize(st);
-    if (rc != SQLITE_DONE) fail(sqlite3_errmsg(db_));
+    readTopics(tables.count("message_definitions") != 0);
+    // rowid: the row's id whatever the table calls it, for error messages.
     if (sqlite3_prepare_v2(db_,
-                           "SELECT topic_id, timestamp, data FROM messages ORDER BY timestamp, id;",
+                           "SELECT rowid, topic_id, timestamp, data FROM messages "
+                           "ORDER BY timestamp, rowid;",
                            -1, &cursor_, nullptr) != SQLITE_OK) {
       fail(sqlite3_errmsg(db_));
     }
@@ -121,6 +189,96 @@ SqliteReader::SqliteReader(const std::filesystem::path& path, Compression messag
     db_ = nullptr;
     throw;
   }
+}
+
+std::set<std::string> SqliteReader::columns(const std::string& table) const {
+  std::set<std::string> out;
+  sqlite3_stmt* st = nullptr;
+  if (sqlite3_prepare_v2(db_, ("PRAGMA table_info(" + table + ");").c_str(), -1, &st, nullptr) !=
+      SQLITE_OK) {
+    fail(sqlite3_errmsg(db_));
+  }
+  int rc;
+  while ((rc = sqlite3_step(st)) == SQLITE_ROW) out.insert(columnText(st, 1));
+  sqlite3_finalize(st);
+  if (rc != SQLITE_DONE) fail(sqlite3_errmsg(db_));
+  return out;
+}
+
+void SqliteReader::readTopics(bool has_definitions) {
+  sqlite3_stmt* st = nullptr;
+  int rc;
+  std::map<std::string, std::string> definitions;
+  if (has_definitions) {
+    if (sqlite3_prepare_v2(db_,
+                           "SELECT topic_type, encoded_message_definition FROM "
+                           "message_definitions;",
+                           -1, &st, nullptr) != SQLITE_OK) {
+      fail(std::string("table message_definitions: ") + sqlite3_errmsg(db_));
+    }
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW) definitions[columnText(st, 0)] = columnText(st, 1);
+    sqlite3_finalize(st);
+    if (rc != SQLITE_DONE) fail(sqlite3_errmsg(db_));
+  }
+  const std::set<std::string> cols = columns("topics");
+  for (const char* c : {"id", "name", "type", "serialization_format"}) {
+    if (cols.count(c) == 0) {
+      fail(std::string("table topics has no column ") + c +
+           " (not a rosbag2 file, or a damaged one)");
+    }
+  }
+  // offered_qos_profiles came with Foxy and type_description_hash with Iron: older files
+  // lack them.
+  const bool has_qos = cols.count("offered_qos_profiles") != 0;
+  const bool has_hash = cols.count("type_description_hash") != 0;
+  const std::string q = std::string("SELECT id, name, type, serialization_format") +
+                        (has_qos ? ", offered_qos_profiles" : ", ''") +
+                        (has_hash ? ", type_description_hash" : ", ''") +
+                        " FROM topics ORDER BY id;";
+  if (sqlite3_prepare_v2(db_, q.c_str(), -1, &st, nullptr) != SQLITE_OK) {
+    fail(sqlite3_errmsg(db_));
+  }
+  std::map<std::string, long long> first_id;
+  try {
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+      const long long id = sqlite3_column_int64(st, 0);
+      TopicInfo t;
+      t.name = columnText(st, 1);
+      t.type = columnText(st, 2);
+      t.serialization_format = columnText(st, 3);
+      t.offered_qos_profiles = columnText(st, 4);
+      t.type_description_hash = columnText(st, 5);
+      const std::string row = "topics row id " + std::to_string(id);
+      if (t.name.empty()) fail(row + ": empty topic name");
+      if (t.type.empty()) fail("topic " + t.name + " (" + row + "): empty type");
+      if (auto it = first_id.find(t.name); it != first_id.end()) {
+        // One name under two ids: the same topic again is merged; two types cannot be read.
+        const std::size_t k = topic_index_.at(it->second);
+        if (topics_[k].type != t.type) {
+          fail("topic " + t.name + " is declared twice with different types: id " +
+               std::to_string(it->second) + " " + topics_[k].type + ", id " + std::to_string(id) +
+               " " + t.type);
+        }
+        topic_index_[id] = k;
+        continue;
+      }
+      if (t.serialization_format != "cdr") {
+        warnings_.push_back(name_ + ": topic " + t.name + ": serialization_format '" +
+                            t.serialization_format + "' (expected cdr)");
+      }
+      if (auto it = definitions.find(t.type); it != definitions.end()) {
+        t.message_definition = it->second;
+      }
+      first_id[t.name] = id;
+      topic_index_[id] = topics_.size();
+      topics_.push_back(std::move(t));
+    }
+  } catch (...) {
+    sqlite3_finalize(st);
+    throw;
+  }
+  sqlite3_finalize(st);
+  if (rc != SQLITE_DONE) fail(sqlite3_errmsg(db_));
 }
 
 SqliteReader::~SqliteReader() {
@@ -135,8 +293,8 @@ void SqliteReader::fail(const std::string& what) const {
 void SqliteReader::setTopicFilter(const std::set<std::string>& topics) {
   selected_.clear();
   filtered_ = !topics.empty();
-  for (std::size_t i = 0; i < topics_.size(); ++i) {
-    if (topics.count(topics_[i].name)) selected_.insert(topic_ids_[i]);
+  for (const auto& [id, k] : topic_index_) {
+    if (topics.count(topics_[k].name)) selected_.insert(id);
   }
 }
 
@@ -145,27 +303,59 @@ bool SqliteReader::next(BagMessage& out) {
     const int rc = sqlite3_step(cursor_);
     if (rc == SQLITE_DONE) return false;
     if (rc != SQLITE_ROW) fail(std::string("reading messages: ") + sqlite3_errmsg(db_));
-    const long long id = sqlite3_column_int64(cursor_, 0);
-    if (filtered_ && selected_.count(id) == 0) continue;
-    std::size_t k = 0;
-    while (k < topic_ids_.size() && topic_ids_[k] != id) ++k;
-    if (k == topic_ids_.size()) {
-      fail("message refers to unknown topic id " + std::to_string(id));
+    // Error texts are built only on failure: this runs once per message.
+    const auto row = [this] {
+      return "messages row id " + std::to_string(sqlite3_column_int64(cursor_, 0));
+    };
+    // Checked before the topic filter: a row of no known topic may be a lost message of the
+    // selected ones, so it is never skipped silently.
+    const int id_type = sqlite3_column_type(cursor_, 1);
+    if (id_type != SQLITE_INTEGER) {
+      fail(row() + ": topic_id is " + typeName(id_type) + ", not a topic id");
     }
-    out.topic = topics_[k].name;
-    out.log_time = sqlite3_column_int64(cursor_, 1);
+    const long long id = sqlite3_column_int64(cursor_, 1);
+    const auto topic = topic_index_.find(id);
+    if (topic == topic_index_.end()) {
+      fail(row() + " refers to unknown topic id " + std::to_string(id));
+    }
+    if (filtered_ && selected_.count(id) == 0) continue;
+    out.topic = topics_[topic->second].name;
+    const auto what = [&] { return row() + " on " + out.topic; };
+    const int time_type = sqlite3_column_type(cursor_, 2);
+    if (time_type != SQLITE_INTEGER) {
+      fail(what() + ": timestamp is " + typeName(time_type) +
+           " (expected INTEGER nanoseconds since the epoch)");
+    }
+    out.log_time = sqlite3_column_int64(cursor_, 2);
+    if (out.log_time < 0) {
+      fail(what() + ": negative timestamp " + std::to_string(out.log_time) + " ns");
+    }
     out.publish_time = out.log_time;
     out.sequence = 0;
-    const auto* blob = static_cast<const std::uint8_t*>(sqlite3_column_blob(cursor_, 2));
-    const auto n = static_cast<std::size_t>(sqlite3_column_bytes(cursor_, 2));
+    const int data_type = sqlite3_column_type(cursor_, 3);
+    if (data_type != SQLITE_BLOB) {
+      fail(what() + " at " + std::to_string(out.log_time) + " ns: data is " + typeName(data_type) +
+           ", not a BLOB");
+    }
+    const auto* blob = static_cast<const std::uint8_t*>(sqlite3_column_blob(cursor_, 3));
+    const auto n = static_cast<std::size_t>(sqlite3_column_bytes(cursor_, 3));
     if (compression_ == Compression::None) {
+      // A compressed payload under a metadata.yaml that says none would reach the decoder as
+      // nonsense: name the likely cause instead.
+      static const std::uint8_t kZstd[4] = {0x28, 0xB5, 0x2F, 0xFD};
+      static const std::uint8_t kLz4[4] = {0x04, 0x22, 0x4D, 0x18};
+      if (n >= 4 && (std::memcmp(blob, kZstd, 4) == 0 || std::memcmp(blob, kLz4, 4) == 0)) {
+        fail(what() + " at " + std::to_string(out.log_time) + " ns: data is a " +
+             (blob[0] == kZstd[0] ? "zstd" : "lz4") +
+             " frame but metadata.yaml gives no message compression");
+      }
       out.data.assign(blob, blob + n);
     } else {
       try {
         Codec::decompressFrame(compression_, blob, n, kMaxMessageSize, out.data);
       } catch (const std::exception& e) {
-        fail("message at " + std::to_string(out.log_time) + " ns on " + out.topic +
-             " does not decompress: " + e.what());
+        fail("message at " + std::to_string(out.log_time) + " ns on " + out.topic + " (" + row() +
+             ") does not decompress: " + e.what());
       }
     }
     return true;
@@ -176,38 +366,69 @@ FileStatistics SqliteReader::statistics() const {
   FileStatistics s;
   for (const auto& t : topics_) s.topic_message_counts[t.name] += 0;
   sqlite3_stmt* st = nullptr;
+  // No data column here: GROUP BY would copy every BLOB into its sorter (slow on big bags).
   if (sqlite3_prepare_v2(db_,
-                         "SELECT topic_id, COUNT(*), MIN(timestamp), MAX(timestamp) FROM messages "
-                         "GROUP BY topic_id;",
+                         "SELECT topic_id, typeof(topic_id), COUNT(*), MIN(timestamp), "
+                         "MAX(timestamp), SUM(typeof(timestamp) <> 'integer'), MIN(rowid) "
+                         "FROM messages GROUP BY topic_id;",
                          -1, &st, nullptr) != SQLITE_OK) {
     fail(sqlite3_errmsg(db_));
   }
   int rc;
-  while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-    const long long id = sqlite3_column_int64(st, 0);
-    const auto n = static_cast<std::uint64_t>(sqlite3_column_int64(st, 1));
-    const Timestamp lo = sqlite3_column_int64(st, 2);
-    const Timestamp hi = sqlite3_column_int64(st, 3);
-    std::string name;
-    for (std::size_t i = 0; i < topic_ids_.size(); ++i) {
-      if (topic_ids_[i] == id) name = topics_[i].name;
+  try {
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+      const long long id = sqlite3_column_int64(st, 0);
+      const std::string id_type = columnText(st, 1);
+      const auto n = static_cast<std::uint64_t>(sqlite3_column_int64(st, 2));
+      const Timestamp lo = sqlite3_column_int64(st, 3);
+      const Timestamp hi = sqlite3_column_int64(st, 4);
+      const long long bad_times = sqlite3_column_int64(st, 5);
+      const auto topic = topic_index_.find(id);
+      if (id_type != "integer" || topic == topic_index_.end()) {
+        fail(std::to_string(n) + " messages refer to " +
+             (id_type != "integer" ? "a topic_id of type " + id_type
+                                   : "unknown topic id " + std::to_string(id)) +
+             " (first at messages row id " + std::to_string(sqlite3_column_int64(st, 6)) + ")");
+      }
+      const std::string& name = topics_[topic->second].name;
+      if (bad_times > 0) {
+        fail("topic " + name + ": " + std::to_string(bad_times) +
+             " messages have a timestamp that is not an INTEGER");
+      }
+      if (lo < 0) fail("topic " + name + ": negative timestamp " + std::to_string(lo) + " ns");
+      s.topic_message_counts[name] += n;
+      if (s.message_count == 0) {
+        s.start_time = lo;
+        s.end_time = hi;
+      } else {
+        s.start_time = std::min(s.start_time, lo);
+        s.end_time = std::max(s.end_time, hi);
+      }
+      s.message_count += n;
     }
-    if (name.empty()) {
-      sqlite3_finalize(st);
-      fail("messages refer to unknown topic id " + std::to_string(id));
-    }
-    s.topic_message_counts[name] += n;
-    if (s.message_count == 0) {
-      s.start_time = lo;
-      s.end_time = hi;
-    } else {
-      s.start_time = std::min(s.start_time, lo);
-      s.end_time = std::max(s.end_time, hi);
-    }
-    s.message_count += n;
+  } catch (...) {
+    sqlite3_finalize(st);
+    throw;
   }
   sqlite3_finalize(st);
   if (rc != SQLITE_DONE) fail(sqlite3_errmsg(db_));
+  // typeof() of a row's data reads its record header, not the BLOB's pages.
+  if (sqlite3_prepare_v2(db_,
+                         "SELECT COUNT(*), MIN(rowid) FROM messages WHERE typeof(data) <> 'blob';",
+                         -1, &st, nullptr) != SQLITE_OK) {
+    fail(sqlite3_errmsg(db_));
+  }
+  long long bad_data = 0;
+  long long first_bad = 0;
+  if (sqlite3_step(st) == SQLITE_ROW) {
+    bad_data = sqlite3_column_int64(st, 0);
+    first_bad = sqlite3_column_int64(st, 1);
+  }
+  sqlite3_finalize(st);
+  if (bad_data > 0) {
+    fail(std::to_string(bad_data) + " messages have data that is NULL or not a BLOB (first at " +
+         "messages row id " + std::to_string(first_bad) + ")");
+  }
   return s;
 }
 
@@ -223,7 +444,16 @@ std::string SqliteReader::storedMetadataYaml() const {
   return yaml;
 }
 
-void SqliteReader::recover(const std::filesystem::path& path) {
+bool SqliteReader::recover(const std::filesystem::path& path) {
+  const auto wal = sibling(path, "-wal");
+  const bool leftover = std::filesystem::exists(wal) ||
+                        std::filesystem::exists(sibling(path, "-journal"));
+  std::error_code ec;
+  if (std::filesystem::file_size(path, ec) == 0 && !ec && sizeOr0(wal) > 0 &&
+      !restoreFirstPageFromWal(path, wal)) {
+    throw InputError(path.string() + ": the file is empty and its write-ahead log " +
+                     wal.string() + " holds no committed transaction: nothing to recover");
+  }
   checkMagic(path);
   sqlite3* db = nullptr;
   if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READWRITE, nullptr) != SQLITE_OK) {
@@ -232,14 +462,30 @@ void SqliteReader::recover(const std::filesystem::path& path) {
     throw InputError(path.string() + ": cannot open sqlite3 database: " + why);
   }
   char* err = nullptr;
-  const int rc = sqlite3_exec(db,
-                              "PRAGMA wal_checkpoint(TRUNCATE); PRAGMA journal_mode=DELETE;"
-                              "PRAGMA quick_check;",
-                              nullptr, nullptr, &err);
-  const std::string why = err ? err : "";
+  int rc = sqlite3_exec(db, "PRAGMA wal_checkpoint(TRUNCATE); PRAGMA journal_mode=DELETE;",
+                        nullptr, nullptr, &err);
+  std::string why = err ? err : "";
   sqlite3_free(err);
+  // quick_check answers with rows ("ok", or one line per problem), not with an error code.
+  std::string problems;
+  if (rc == SQLITE_OK) {
+    sqlite3_stmt* st = nullptr;
+    rc = sqlite3_prepare_v2(db, "PRAGMA quick_check(5);", -1, &st, nullptr);
+    while (rc == SQLITE_OK && sqlite3_step(st) == SQLITE_ROW) {
+      const std::string line = columnText(st, 0);
+      if (line != "ok") problems += (problems.empty() ? "" : "; ") + line;
+    }
+    sqlite3_finalize(st);
+    if (rc != SQLITE_OK) why = sqlite3_errmsg(db);
+  }
   sqlite3_close(db);
   if (rc != SQLITE_OK) throw InputError(path.string() + ": sqlite3 recovery failed: " + why);
+  if (!problems.empty()) {
+    throw InputError(path.string() + ": sqlite3 integrity check failed (" + problems +
+                     "); reindex cannot repair damage inside an sqlite3 file (the sqlite3 "
+                     "shell's .recover salvages what is left)");
+  }
+  return leftover;
 }
 
 }  // namespace mcvio::bag

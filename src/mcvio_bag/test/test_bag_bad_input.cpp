@@ -360,3 +360,302 @@ TEST(BagFolder, WhereNamesFileTopicAndTime) {
 
 }  // namespace
 }  // namespace mcvio::bag
+
+namespace mcvio::bag {
+namespace {
+
+// sqlite3 storage fed with damaged or forged files: each case must be an InputError (or a
+// warning) naming the file and the topic/row/field, and no committed data may be dropped.
+
+/// Runs SQL on a .db3 outside the library (the damage a test wants).
+void sqlExec(const std::filesystem::path& db3, const std::string& sql) {
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(db3.c_str(), &db), SQLITE_OK);
+  char* err = nullptr;
+  const int rc = sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &err);
+  const std::string why = err ? err : "";
+  sqlite3_free(err);
+  sqlite3_close(db);
+  ASSERT_EQ(rc, SQLITE_OK) << why << " in " << sql;
+}
+
+std::filesystem::path sqliteFile(const std::filesystem::path& dir) {
+  return dir / readBagMetadata(dir).relative_file_paths.at(0);
+}
+
+/// The messages table without NOT NULL, so rows can hold NULLs as a foreign tool may write.
+void loosenMessages(const std::filesystem::path& db3) {
+  sqlExec(db3,
+          "CREATE TABLE m2(id INTEGER PRIMARY KEY, topic_id INTEGER, timestamp INTEGER, data BLOB);"
+          "INSERT INTO m2 SELECT id, topic_id, timestamp, data FROM messages; DROP TABLE messages;"
+          "ALTER TABLE m2 RENAME TO messages;"
+          "CREATE INDEX timestamp_idx ON messages (timestamp ASC);");
+}
+
+/// A writer killed before its first checkpoint on a file system that lost the .db3's pages:
+/// an empty .db3 beside a -wal holding everything. sqlite deletes such a log when it opens the
+/// file; reading must not, and reindex must recover every message from it.
+TEST(SqliteBadInput, EmptyFileWithWriteAheadLogKeepsTheLog) {
+  const auto dir = smallBag("sqlite_wal_only", "sqlite3");
+  const auto f = sqliteFile(dir);
+  const auto full = dir / "full.tmp";
+  std::filesystem::rename(f, full);
+  std::filesystem::path wal = f;
+  wal += "-wal";
+  {
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(f.c_str(), &db), SQLITE_OK);
+    const std::string attach = "ATTACH '" + full.string() + "' AS src;";
+    ASSERT_EQ(sqlite3_exec(db,
+                           ("PRAGMA journal_mode=WAL; PRAGMA wal_autocheckpoint=0;" + attach +
+                            "CREATE TABLE topics AS SELECT * FROM src.topics;"
+                            "CREATE TABLE message_definitions AS SELECT * FROM "
+                            "src.message_definitions;"
+                            "CREATE TABLE messages AS SELECT * FROM src.messages; DETACH src;")
+                               .c_str(),
+                           nullptr, nullptr, nullptr),
+              SQLITE_OK);
+    // The state a kill -9 leaves: the log as it is now, the .db3 empty.
+    std::filesystem::copy_file(wal, dir / "wal.tmp");
+    sqlite3_close(db);
+  }
+  std::filesystem::remove(full);
+  std::filesystem::resize_file(f, 0);
+  std::filesystem::rename(dir / "wal.tmp", wal);
+  const auto wal_size = std::filesystem::file_size(wal);
+  ASSERT_GT(wal_size, 12000u);
+  expectInputError([&] { BagReader r(dir); }, {f.string(), "write-ahead log", "reindex"});
+  std::vector<std::string> w;
+  bagInfo(dir, &w);
+  EXPECT_TRUE(anyHas(w, {f.string(), "write-ahead log"})) << joined(w);
+  ASSERT_TRUE(std::filesystem::exists(wal)) << "the log was deleted";
+  EXPECT_EQ(std::filesystem::file_size(wal), wal_size);
+  std::vector<std::string> log;
+  const BagMetadata m = BagReindexer::reindex(dir, &log);
+  EXPECT_EQ(m.message_count, 40u) << joined(log);
+  EXPECT_EQ(test::readAll(dir).size(), 40u);
+}
+
+/// Rows whose topic_id names no topic used to be skipped without a word when a topic filter
+/// was set (mcvio run reads three topics): they may be lost messages of those topics.
+TEST(SqliteBadInput, RowsOfAnUnknownTopicAreAnErrorAlsoWithAFilter) {
+  for (const std::string bad : {"99", "NULL", "'six'"}) {
+    const auto dir = smallBag("sqlite_unknown_topic", "sqlite3");
+    const auto f = sqliteFile(dir);
+    loosenMessages(f);
+    sqlExec(f, "UPDATE messages SET topic_id=" + bad + " WHERE id=5;");
+    BagReaderOptions o;
+    o.topics = {"/a"};
+    expectInputError(
+        [&] {
+          BagReader r(dir, o);
+          BagMessage m;
+          while (r.next(m)) {
+          }
+        },
+        {f.string(), "messages row id 5"});
+    std::vector<std::string> w;
+    bagInfo(dir, &w);
+    EXPECT_TRUE(anyHas(w, {f.string(), "topic"})) << joined(w);
+  }
+}
+
+/// Timestamps that are NULL, TEXT, REAL or negative used to come back as 0 or as given (play
+/// then slept for decades or mis-timed everything); they name the row, topic and value now.
+TEST(SqliteBadInput, TimestampsThatAreNotNonNegativeIntegers) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"NULL", "timestamp is NULL"},
+      {"'abc'", "timestamp is TEXT"},
+      {"1000.5", "timestamp is a REAL"},
+      {"-7", "negative timestamp -7"}};
+  for (const auto& [value, expected] : cases) {
+    const auto dir = smallBag("sqlite_bad_time", "sqlite3");
+    const auto f = sqliteFile(dir);
+    loosenMessages(f);
+    sqlExec(f, "UPDATE messages SET timestamp=" + value + " WHERE id=7;");
+    expectInputError([&] { test::readAll(dir); },
+                     {f.string(), "messages row id 7 on /a", expected});
+    std::vector<std::string> w;
+    bagInfo(dir, &w);
+    EXPECT_TRUE(anyHas(w, {f.string(), "/a", "timestamp"})) << value << ": " << joined(w);
+    expectInputError([&] { BagReindexer::reindex(dir); }, {f.string(), "timestamp"});
+  }
+}
+
+/// NULL or TEXT data used to reach the player and decoder as an empty or foreign payload.
+TEST(SqliteBadInput, DataThatIsNotABlob) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"NULL", "data is NULL"}, {"'hello'", "data is TEXT"}, {"42", "data is an INTEGER"}};
+  for (const auto& [value, expected] : cases) {
+    const auto dir = smallBag("sqlite_bad_data", "sqlite3");
+    const auto f = sqliteFile(dir);
+    loosenMessages(f);
+    sqlExec(f, "UPDATE messages SET data=" + value + " WHERE id=9;");
+    expectInputError([&] { test::readAll(dir); },
+                     {f.string(), "messages row id 9 on /a", expected});
+    std::vector<std::string> w;
+    bagInfo(dir, &w);
+    EXPECT_TRUE(anyHas(w, {f.string(), "not a BLOB", "row id 9"})) << joined(w);
+  }
+}
+
+/// A topic name declared twice with two types made the second id's messages go out under the
+/// first type; an empty type reached the player's type mapping without a file name.
+TEST(SqliteBadInput, TopicsRowsThatCannotBeRead) {
+  const auto dir = smallBag("sqlite_dup_topic", "sqlite3");
+  const auto f = sqliteFile(dir);
+  sqlExec(f,
+          "INSERT INTO topics SELECT 7, name, type, serialization_format, offered_qos_profiles,"
+          " type_description_hash FROM topics WHERE id=1;"
+          "UPDATE messages SET topic_id=7 WHERE id<=10;");
+  // Same name and type: one topic with all its messages.
+  const auto all = test::readAll(dir);
+  EXPECT_EQ(all.size(), 40u);
+  EXPECT_EQ(BagReader(dir).topics().size(), 1u);
+  std::vector<std::string> w;
+  bagInfo(dir, &w);
+  EXPECT_TRUE(w.empty()) << joined(w);
+  sqlExec(f, "UPDATE topics SET type='sensor_msgs/msg/Imu' WHERE id=7;");
+  expectInputError([&] { BagReader r(dir); },
+                   {f.string(), "topic /a", "std_msgs/msg/String", "sensor_msgs/msg/Imu"});
+  sqlExec(f, "DELETE FROM topics WHERE id=7; UPDATE messages SET topic_id=1;"
+             "UPDATE topics SET type='' WHERE id=1;");
+  expectInputError([&] { BagReader r(dir); }, {f.string(), "topic /a", "empty type"});
+}
+
+/// Files without offered_qos_profiles (rosbag2 before Foxy) are read; a missing required
+/// column names its table.
+TEST(SqliteBadInput, OldAndBrokenTableLayouts) {
+  const auto dir = smallBag("sqlite_old_layout", "sqlite3");
+  const auto f = sqliteFile(dir);
+  sqlExec(f,
+          "CREATE TABLE t2(id INTEGER PRIMARY KEY, name TEXT, type TEXT, serialization_format TEXT);"
+          "INSERT INTO t2 SELECT id, name, type, serialization_format FROM topics;"
+          "DROP TABLE topics; ALTER TABLE t2 RENAME TO topics;");
+  EXPECT_EQ(test::readAll(dir).size(), 40u);
+  sqlExec(f,
+          "CREATE TABLE m2(id INTEGER PRIMARY KEY, topic_id INTEGER, timestamp INTEGER);"
+          "INSERT INTO m2 SELECT id, topic_id, timestamp FROM messages;"
+          "DROP TABLE messages; ALTER TABLE m2 RENAME TO messages;");
+  expectInputError([&] { BagReader r(dir); }, {f.string(), "table messages has no column data"});
+}
+
+/// An unknown schema version or a serialization format other than CDR is read, with a
+/// warning naming the file (and topic) for play, run and bag info.
+TEST(SqliteBadInput, UnknownSchemaVersionAndSerializationWarn) {
+  const auto dir = smallBag("sqlite_schema_99", "sqlite3");
+  const auto f = sqliteFile(dir);
+  sqlExec(f, "UPDATE schema SET schema_version=99; UPDATE topics SET serialization_format='json';");
+  BagReader r(dir);
+  EXPECT_TRUE(anyHas(r.warnings(), {f.string(), "schema_version 99"})) << joined(r.warnings());
+  EXPECT_TRUE(anyHas(r.warnings(), {f.string(), "topic /a", "'json'"})) << joined(r.warnings());
+  std::vector<std::string> w;
+  bagInfo(dir, &w);
+  EXPECT_TRUE(anyHas(w, {f.string(), "schema_version 99"})) << joined(w);
+  EXPECT_TRUE(anyHas(w, {f.string(), "topic /a", "'json'"})) << joined(w);
+}
+
+/// metadata.yaml naming the other storage: bag info used to open the file by its extension and
+/// report nothing (or message counts of 0).
+TEST(SqliteBadInput, StorageOfTheOtherKind) {
+  const auto dir = smallBag("sqlite_says_mcap", "sqlite3");
+  const auto f = sqliteFile(dir);
+  BagMetadata m = readBagMetadata(dir);
+  m.storage_identifier = "mcap";
+  writeBagMetadata(dir, m);
+  expectInputError([&] { BagReader r(dir); }, {f.string(), "is an sqlite3 database", "mcap"});
+  std::vector<std::string> w;
+  bagInfo(dir, &w);
+  EXPECT_TRUE(anyHas(w, {f.string(), "is an sqlite3 database"})) << joined(w);
+  // An MCAP file under a .db3 name.
+  const auto mcap_dir = smallBag("sqlite_is_mcap", "mcap");
+  std::filesystem::remove(f);
+  std::filesystem::copy_file(sqliteFile(mcap_dir), f);
+  m.storage_identifier = "sqlite3";
+  writeBagMetadata(dir, m);
+  expectInputError([&] { BagReader r(dir); }, {f.string(), "is an MCAP file"});
+}
+
+/// Message compression that metadata.yaml gets wrong: zstd frames read as plain CDR used to
+/// reach the decoder as nonsense, and bag info said nothing about any of these.
+TEST(SqliteBadInput, MessageCompressionThatMetadataGetsWrong) {
+  const auto dir = smallBag("sqlite_zstd", "sqlite3", Compression::Zstd);
+  const auto f = sqliteFile(dir);
+  BagMetadata m = readBagMetadata(dir);
+  ASSERT_EQ(m.compression_mode, "MESSAGE");
+  m.compression_mode = "";
+  m.compression_format = "";
+  writeBagMetadata(dir, m);
+  expectInputError([&] { test::readAll(dir); }, {f.string(), "/a", "zstd frame"});
+  std::vector<std::string> w;
+  bagInfo(dir, &w);
+  EXPECT_TRUE(anyHas(w, {f.string(), "zstd frame"})) << joined(w);
+  m.compression_mode = "MESSAGE";
+  m.compression_format = "bz2";
+  writeBagMetadata(dir, m);
+  w.clear();
+  bagInfo(dir, &w);
+  EXPECT_TRUE(anyHas(w, {"metadata.yaml", "compression_format", "bz2"})) << joined(w);
+}
+
+/// A hot rollback journal (a killed writer in rollback mode) made every reader fail with
+/// "attempt to write a readonly database".
+TEST(SqliteBadInput, LeftoverRollbackJournal) {
+  const auto dir = smallBag("sqlite_journal", "sqlite3");
+  const auto f = sqliteFile(dir);
+  std::filesystem::path journal = f;
+  journal += "-journal";
+  spit(journal, test::payload(3, 3000));
+  EXPECT_EQ(test::readAll(dir).size(), 40u);
+}
+
+/// bag info: a topic only the storage knows, and a files entry whose count disagrees.
+TEST(SqliteBadInput, InfoReportsTopicsAndFileCountsMetadataLacks) {
+  const auto dir = smallBag("sqlite_info_extra", "sqlite3");
+  const auto f = sqliteFile(dir);
+  sqlExec(f,
+          "INSERT INTO topics SELECT 2, '/extra', type, serialization_format, offered_qos_profiles,"
+          " type_description_hash FROM topics WHERE id=1;"
+          "INSERT INTO messages(topic_id, timestamp, data) SELECT 2, timestamp, data FROM messages"
+          " WHERE id<=3;");
+  std::vector<std::string> w;
+  bagInfo(dir, &w);
+  EXPECT_TRUE(anyHas(w, {"topic /extra", "not in metadata.yaml"})) << joined(w);
+  EXPECT_TRUE(anyHas(w, {"files entry", f.filename().string(), "43"})) << joined(w);
+}
+
+/// reindex used to call any .db3 fine after folding its log in (quick_check's answer was
+/// ignored) and dropped files the old metadata.yaml listed without a word.
+TEST(SqliteBadInput, ReindexReportsADamagedFileAndLostFiles) {
+  const auto dir = smallBag("sqlite_reindex_damage", "sqlite3");
+  const auto f = sqliteFile(dir);
+  BagMetadata m = readBagMetadata(dir);
+  m.relative_file_paths.push_back("gone_1.db3");
+  writeBagMetadata(dir, m);
+  std::vector<std::string> log;
+  BagReindexer::reindex(dir, &log);
+  EXPECT_TRUE(anyHas(log, {"gone_1.db3", "left out"})) << joined(log);
+  EXPECT_TRUE(anyHas(log, {f.filename().string(), "intact"})) << joined(log);
+  // Damage the timestamp index only: counting still works, reading in time order does not.
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(f.c_str(), &db), SQLITE_OK);
+  sqlite3_stmt* st = nullptr;
+  ASSERT_EQ(sqlite3_prepare_v2(db, "SELECT rootpage FROM sqlite_master WHERE name='timestamp_idx';",
+                               -1, &st, nullptr),
+            SQLITE_OK);
+  ASSERT_EQ(sqlite3_step(st), SQLITE_ROW);
+  const int root = sqlite3_column_int(st, 0);
+  sqlite3_finalize(st);
+  ASSERT_EQ(sqlite3_prepare_v2(db, "PRAGMA page_size;", -1, &st, nullptr), SQLITE_OK);
+  ASSERT_EQ(sqlite3_step(st), SQLITE_ROW);
+  const int page = sqlite3_column_int(st, 0);
+  sqlite3_finalize(st);
+  sqlite3_close(db);
+  auto b = slurp(f);
+  for (int i = 8; i < page; ++i) b[static_cast<std::size_t>((root - 1) * page + i)] = 0xA5;
+  spit(f, b);
+  expectInputError([&] { BagReindexer::reindex(dir); }, {f.string(), "integrity check failed"});
+}
+
+}  // namespace
+}  // namespace mcvio::bag

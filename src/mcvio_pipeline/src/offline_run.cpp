@@ -75,6 +75,9 @@ OfflineInput readBag(const OfflineRunOptions& options) {
   bag::BagReaderOptions ro;
   ro.topics = {"/cam0/image_raw", "/cam1/image_raw", "/imu0"};
   bag::BagReader reader(options.dataset_dir, ro);
+  // metadata.yaml disagreeing with the storage, an unknown sqlite3 schema version, a topic that
+  // is not CDR: the run goes on, and says so like `mcvio play` does.
+  in.warnings = reader.warnings();
   std::map<std::string, std::unique_ptr<rosmsg::MessageDefinitionSet>> defs;
   for (const auto& t : reader.topics()) {
     if (t.message_definition.empty()) throw InputError(options.dataset_dir + ": topic " + t.name + " has no message definition");

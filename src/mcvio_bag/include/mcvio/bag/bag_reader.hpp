@@ -48,7 +48,8 @@ class BagReader {
   /// Counts and time range gathered from the storage files themselves.
   FileStatistics statistics() const;
   /// Disagreements between metadata.yaml and the storage files that do not stop reading
-  /// (a topic's type differs from its schema), one line each naming the topic and both types.
+  /// (a topic's type differs from its schema), one line each naming the topic and both types,
+  /// and each storage file's own warnings (StorageFileReader::warnings).
   const std::vector<std::string>& warnings() const { return warnings_; }
 
  private:

@@ -17,7 +17,9 @@ class BagReindexer {
   /// `log` (optional) receives one line per file describing what was done, plus where an
   /// original was kept and what a killed writer's unfinished tail lost. `damage` (optional)
   /// receives one line per damaged record that was dropped (file, byte offset, size, messages
-  /// lost when known): data was lost that had been written completely.
+  /// lost when known): data was lost that had been written completely. Files the old
+  /// metadata.yaml listed that are gone are named in `log`. A damaged sqlite3 file (failed
+  /// quick_check) is an InputError: reindex does not salvage sqlite3 pages.
   static BagMetadata reindex(const std::filesystem::path& bag_dir,
                              std::vector<std::string>* log = nullptr,
                              std::vector<std::string>* damage = nullptr);

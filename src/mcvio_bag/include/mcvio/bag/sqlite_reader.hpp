@@ -1,5 +1,6 @@
 #pragma once
 #include <filesystem>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -12,8 +13,12 @@ struct sqlite3_stmt;
 
 namespace mcvio::bag {
 
-/// Reads one rosbag2 sqlite3 file (schema versions 2..4; message definitions when the file has
-/// the message_definitions table). Bad input throws mcvio::InputError naming the file.
+/// Reads one rosbag2 sqlite3 file (schema versions 1..4; message definitions when the file has
+/// the message_definitions table). Bad input throws mcvio::InputError naming the file (and the
+/// topic, row and field where one is at fault): missing tables or columns, a topic without a
+/// name or type, one name declared with two types, messages of an unknown topic id, timestamps
+/// that are not non-negative integers, data that is NULL or not a BLOB (an empty BLOB is an
+/// empty message, as the writer stores it).
 /// sqlite stores no publish time: messages come back with publish_time = log_time.
 class SqliteReader : public StorageFileReader {
  public:
@@ -28,22 +33,32 @@ class SqliteReader : public StorageFileReader {
   void setTopicFilter(const std::set<std::string>& topics) override;
   bool next(BagMessage& out) override;
   FileStatistics statistics() const override;
+  std::vector<std::string> warnings() const override { return warnings_; }
   /// The YAML stored in the metadata table, or empty.
   std::string storedMetadataYaml() const;
 
   /// Makes a file left by a killed writer self-contained: replays its write-ahead log (every
-  /// committed transaction) into the .db3 and switches it out of WAL mode.
-  static void recover(const std::filesystem::path& path);
+  /// committed transaction) into the .db3 and switches it out of WAL mode; a hot rollback
+  /// journal is rolled back. Then checks the file (PRAGMA quick_check): InputError when it is
+  /// damaged, which this cannot repair. Returns true when a -wal or -journal file was folded in.
+  static bool recover(const std::filesystem::path& path);
+  /// True when the file starts with the sqlite3 magic (whatever its extension).
+  static bool looksLikeSqlite(const std::filesystem::path& path);
 
  private:
   [[noreturn]] void fail(const std::string& what) const;
+  void readTopics(bool has_definitions);
+  /// The column names of `table`.
+  std::set<std::string> columns(const std::string& table) const;
   std::string name_;
   Compression compression_;
   sqlite3* db_ = nullptr;
   sqlite3_stmt* cursor_ = nullptr;
   std::vector<TopicInfo> topics_;
-  std::vector<long long> topic_ids_;
+  /// topics row id -> index into topics_ (a name declared twice with one type shares an entry).
+  std::map<long long, std::size_t> topic_index_;
   std::set<long long> selected_;
+  std::vector<std::string> warnings_;
   bool filtered_ = false;
   std::vector<std::uint8_t> scratch_;
 };

@@ -30,6 +30,9 @@ class StorageFileReader {
   /// The next message in log-time order (ties in file order); false at the end.
   virtual bool next(BagMessage& out) = 0;
   virtual FileStatistics statistics() const = 0;
+  /// Oddities that do not stop reading (e.g. an unknown sqlite3 schema version or a topic
+  /// whose serialization format is not CDR), one line each naming the file and topic.
+  virtual std::vector<std::string> warnings() const { return {}; }
 };
 
 }  // namespace mcvio::bag
