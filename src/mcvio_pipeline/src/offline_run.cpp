@@ -80,8 +80,17 @@ OfflineInput readBag(const OfflineRunOptions& options) {
   in.warnings = reader.warnings();
   std::map<std::string, std::unique_ptr<rosmsg::MessageDefinitionSet>> defs;
   for (const auto& t : reader.topics()) {
-    if (t.message_definition.empty()) throw InputError(options.dataset_dir + ": topic " + t.name + " has no message definition");
-    defs[t.name] = std::make_unique<rosmsg::MessageDefinitionSet>(rosmsg::MessageDefinitionSet::parse(t.type, t.message_definition));
+    std::string definition = t.message_definition;
+    if (definition.empty()) {
+      const auto known = options.known_message_definitions.find(t.type);
+      if (known == options.known_message_definitions.end())
+        throw InputError(options.dataset_dir + ": topic " + t.name + " (" + t.type + ") has no message definition in the bag, and " +
+                         t.type + " is not a built-in type");
+      definition = known->second;
+      in.warnings.push_back(options.dataset_dir + ": topic " + t.name + " carries no message definition (a bag from before Iron?): "
+                            "read with the built-in " + t.type);
+    }
+    defs[t.name] = std::make_unique<rosmsg::MessageDefinitionSet>(rosmsg::MessageDefinitionSet::parse(t.type, definition));
   }
   for (const char* needed : {"/cam0/image_raw", "/cam1/image_raw", "/imu0"}) {
     if (!defs.count(needed)) throw InputError(options.dataset_dir + ": the bag has no " + std::string(needed));

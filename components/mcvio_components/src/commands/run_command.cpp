@@ -1,6 +1,7 @@
 #include <iostream>
 
 #include "commands/command_context.hpp"
+#include "mcvio/interfaces/message_registry.hpp"
 #include "mcvio/pipeline/offline_run.hpp"
 
 namespace mcvio::cli {
@@ -41,6 +42,9 @@ void addRunCommand(CLI::App& app, CommandContext&) {
   cmd->add_flag("-q,--quiet", *quiet, "no progress bar");
   cmd->callback([opt, quiet] {
     opt->progress = !*quiet;
+    // Bags from before Iron (sqlite3 without message_definitions) are read with these.
+    for (const auto& d : interfaces::MessageRegistry::all())
+      opt->known_message_definitions.emplace(std::string(d.name), std::string(d.full_definition));
     const auto s = pipeline::runOffline(*opt);
     std::cerr << "mcvio run: " << s.frames << " frames, " << s.estimated << " poses, " << s.skipped << " skipped, "
               << s.resets << " resets in " << s.wall_seconds << " s (" << s.data_seconds << " s of data, "

@@ -1,6 +1,7 @@
 #pragma once
 #include <cstddef>
 #include <functional>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -27,6 +28,10 @@ struct OfflineRunOptions {
   bool pipelined = true;
   /// Called with every frame's result, in frame order, from the thread that runs the estimator.
   std::function<void(std::size_t frame, const VioFrameResult& result)> on_frame;
+  /// Message definitions by ROS 2 type ("sensor_msgs/msg/Imu" -> .msg text with dependencies)
+  /// for bag topics that carry none: rosbag2 sqlite3 files before Iron have no
+  /// message_definitions table. `mcvio run` fills it with the built-in types.
+  std::map<std::string, std::string> known_message_definitions;
 };
 
 struct OfflineRunSummary {
