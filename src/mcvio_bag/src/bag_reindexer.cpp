@@ -138,6 +138,27 @@ BagMetadata BagReindexer::reindex(const std::filesystem::path& bag_dir,
           }
         }
       }
+      // The messages themselves show their compression; a metadata.yaml that says otherwise
+      // (edited, or copied from another bag) would make every reader fail.
+      if (const auto seen = sr->firstMessageCompression()) {
+        Compression said = Compression::None;
+        bool known = true;
+        try {
+          if (m.compression_mode == "MESSAGE") said = compressionFromString(m.compression_format);
+        } catch (const std::invalid_argument&) {
+          known = false;
+        }
+        if (!known || said != *seen) {
+          if (log) {
+            log->push_back("WARNING: " + path.filename().string() + ": metadata.yaml said message compression '" +
+                           (m.compression_mode == "MESSAGE" ? m.compression_format : std::string("none")) +
+                           "', the messages are " + toString(*seen) + ": the new metadata.yaml says " +
+                           toString(*seen));
+          }
+          m.compression_format = *seen == Compression::None ? "" : toString(*seen);
+          m.compression_mode = *seen == Compression::None ? "" : "MESSAGE";
+        }
+      }
       if (log) {
         log->push_back(path.filename().string() +
                        (folded ? ": a killed writer's write-ahead log or journal folded in"

@@ -432,6 +432,26 @@ FileStatistics SqliteReader::statistics() const {
   return s;
 }
 
+std::optional<Compression> SqliteReader::firstMessageCompression() const {
+  sqlite3_stmt* st = nullptr;
+  if (sqlite3_prepare_v2(db_, "SELECT substr(data, 1, 4) FROM messages ORDER BY timestamp, rowid LIMIT 1;", -1,
+                         &st, nullptr) != SQLITE_OK) {
+    fail(sqlite3_errmsg(db_));
+  }
+  std::optional<Compression> seen;
+  if (sqlite3_step(st) == SQLITE_ROW) {
+    const auto* head = static_cast<const std::uint8_t*>(sqlite3_column_blob(st, 0));
+    const int n = sqlite3_column_bytes(st, 0);
+    static const std::uint8_t kZstd[4] = {0x28, 0xB5, 0x2F, 0xFD};
+    static const std::uint8_t kLz4[4] = {0x04, 0x22, 0x4D, 0x18};
+    seen = Compression::None;
+    if (n == 4 && std::memcmp(head, kZstd, 4) == 0) seen = Compression::Zstd;
+    if (n == 4 && std::memcmp(head, kLz4, 4) == 0) seen = Compression::Lz4;
+  }
+  sqlite3_finalize(st);
+  return seen;
+}
+
 std::string SqliteReader::storedMetadataYaml() const {
   sqlite3_stmt* st = nullptr;
   std::string yaml;

@@ -596,6 +596,28 @@ TEST(SqliteBadInput, MessageCompressionThatMetadataGetsWrong) {
   w.clear();
   bagInfo(dir, &w);
   EXPECT_TRUE(anyHas(w, {"metadata.yaml", "compression_format", "bz2"})) << joined(w);
+  // reindex takes the compression from the messages, whatever metadata.yaml said.
+  for (const std::string said : {"bz2", "", "lz4"}) {
+    m.compression_mode = said.empty() ? "" : "MESSAGE";
+    m.compression_format = said;
+    writeBagMetadata(dir, m);
+    std::vector<std::string> log;
+    BagReindexer::reindex(dir, &log);
+    EXPECT_TRUE(anyHas(log, {"WARNING", "the messages are zstd"})) << said << ": " << joined(log);
+    EXPECT_EQ(readBagMetadata(dir).compression_format, "zstd");
+    EXPECT_EQ(test::readAll(dir).size(), 40u);
+  }
+  // A plain bag whose metadata.yaml claims zstd gets "none" back.
+  const auto plain = smallBag("sqlite_plain_said_zstd", "sqlite3");
+  BagMetadata pm = readBagMetadata(plain);
+  pm.compression_mode = "MESSAGE";
+  pm.compression_format = "zstd";
+  writeBagMetadata(plain, pm);
+  std::vector<std::string> log;
+  BagReindexer::reindex(plain, &log);
+  EXPECT_TRUE(anyHas(log, {"the messages are none"})) << joined(log);
+  EXPECT_EQ(readBagMetadata(plain).compression_mode, "");
+  EXPECT_EQ(test::readAll(plain).size(), 40u);
 }
 
 /// A hot rollback journal (a killed writer in rollback mode) made every reader fail with

@@ -19,7 +19,9 @@ class BagReindexer {
   /// receives one line per damaged record that was dropped (file, byte offset, size, messages
   /// lost when known): data was lost that had been written completely. Files the old
   /// metadata.yaml listed that are gone are named in `log`. A damaged sqlite3 file (failed
-  /// quick_check) is an InputError: reindex does not salvage sqlite3 pages.
+  /// quick_check) is an InputError: reindex does not salvage sqlite3 pages. For sqlite3 the
+  /// message compression comes from the messages (a warning in `log` when the old metadata.yaml
+  /// said otherwise).
   static BagMetadata reindex(const std::filesystem::path& bag_dir,
                              std::vector<std::string>* log = nullptr,
                              std::vector<std::string>* damage = nullptr);

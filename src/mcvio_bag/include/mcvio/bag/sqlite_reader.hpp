@@ -1,6 +1,7 @@
 #pragma once
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -36,6 +37,9 @@ class SqliteReader : public StorageFileReader {
   std::vector<std::string> warnings() const override { return warnings_; }
   /// The YAML stored in the metadata table, or empty.
   std::string storedMetadataYaml() const;
+  /// The message compression the first stored message shows (a zstd or lz4 frame starts with
+  /// its magic, a CDR message never does); nullopt when the file holds no message.
+  std::optional<Compression> firstMessageCompression() const;
 
   /// Makes a file left by a killed writer self-contained: replays its write-ahead log (every
   /// committed transaction) into the .db3 and switches it out of WAL mode; a hot rollback
