@@ -79,6 +79,16 @@ void checkMagic(const std::filesystem::path& path) {
   }
 }
 
+/// The compression whose frame magic a stored message starts with (a CDR message never starts
+/// with one), else None.
+Compression frameMagic(const std::uint8_t* data, std::size_t size) {
+  static const std::uint8_t kZstd[4] = {0x28, 0xB5, 0x2F, 0xFD};
+  static const std::uint8_t kLz4[4] = {0x04, 0x22, 0x4D, 0x18};
+  if (size >= 4 && std::memcmp(data, kZstd, 4) == 0) return Compression::Zstd;
+  if (size >= 4 && std::memcmp(data, kLz4, 4) == 0) return Compression::Lz4;
+  return Compression::None;
+}
+
 std::uint32_t bigEndian32(const std::uint8_t* p) {
   return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) |
          std::uint32_t{p[3]};
@@ -342,11 +352,8 @@ bool SqliteReader::next(BagMessage& out) {
     if (compression_ == Compression::None) {
       // A compressed payload under a metadata.yaml that says none would reach the decoder as
       // nonsense: name the likely cause instead.
-      static const std::uint8_t kZstd[4] = {0x28, 0xB5, 0x2F, 0xFD};
-      static const std::uint8_t kLz4[4] = {0x04, 0x22, 0x4D, 0x18};
-      if (n >= 4 && (std::memcmp(blob, kZstd, 4) == 0 || std::memcmp(blob, kLz4, 4) == 0)) {
-        fail(what() + " at " + std::to_string(out.log_time) + " ns: data is a " +
-             (blob[0] == kZstd[0] ? "zstd" : "lz4") +
+      if (const Compression framed = frameMagic(blob, n); framed != Compression::None) {
+        fail(what() + " at " + std::to_string(out.log_time) + " ns: data is a " + toString(framed) +
              " frame but metadata.yaml gives no message compression");
       }
       out.data.assign(blob, blob + n);
@@ -442,11 +449,7 @@ std::optional<Compression> SqliteReader::firstMessageCompression() const {
   if (sqlite3_step(st) == SQLITE_ROW) {
     const auto* head = static_cast<const std::uint8_t*>(sqlite3_column_blob(st, 0));
     const int n = sqlite3_column_bytes(st, 0);
-    static const std::uint8_t kZstd[4] = {0x28, 0xB5, 0x2F, 0xFD};
-    static const std::uint8_t kLz4[4] = {0x04, 0x22, 0x4D, 0x18};
-    seen = Compression::None;
-    if (n == 4 && std::memcmp(head, kZstd, 4) == 0) seen = Compression::Zstd;
-    if (n == 4 && std::memcmp(head, kLz4, 4) == 0) seen = Compression::Lz4;
+    seen = frameMagic(head, static_cast<std::size_t>(n));
   }
   sqlite3_finalize(st);
   return seen;
