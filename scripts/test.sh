@@ -6,8 +6,11 @@ cd "$(dirname "$0")/.."
 scripts/setup.sh || { echo "0 passed, 1 failed (set-up or build failed)"; exit 1; }
 
 # Sequential packages: the DDS tests of different packages would otherwise compete for 2 cores.
+# colcon test exits non-zero only when a package's test step itself broke (its tests then have
+# no results and would be missing from the counts below, not failed): that fails the run.
 colcon test --metas colcon.meta --executor sequential --ctest-args --output-on-failure \
-  --event-handlers console_cohesion+ summary+ || true
+  --event-handlers console_cohesion+ summary+
+test_status=$?
 result=$(colcon test-result --test-result-base build --all 2>&1)
 status=$?
 echo "$result" | grep -vE '^build/.*: [0-9]+ tests, 0 errors, 0 failures' | tail -n 40
@@ -23,5 +26,10 @@ if [ -z "$summary" ] || [ -z "$total" ] || [ -z "$errors" ] || [ -z "$failures" 
   exit 1
 fi
 failed=$((errors + failures))
-echo "$((total - failed - skipped)) passed, ${failed} failed, ${skipped} skipped"
+passed=$((total - failed - skipped))
+if [ "$test_status" -ne 0 ]; then
+  echo "colcon test failed (exit $test_status): a package's tests did not run, see 'Failed <<<' above"
+  failed=$((failed + 1))
+fi
+echo "${passed} passed, ${failed} failed, ${skipped} skipped"
 [ "$failed" -eq 0 ] && [ "$status" -eq 0 ]

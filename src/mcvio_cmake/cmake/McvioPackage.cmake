@@ -80,7 +80,9 @@ function(mcvio_add_gtest name)
   endif()
   # Tests find ../shared/data through this variable and skip cleanly when it is absent.
   get_filename_component(shared_dir "${MCVIO_REPO_ROOT}/../shared" ABSOLUTE)
-  gtest_discover_tests(${name} DISCOVERY_MODE PRE_TEST
+  # Listing the tests loads Fast DDS and OpenCV; CMake's 5 s default once timed out on a busy
+  # host and dropped a whole package's tests.
+  gtest_discover_tests(${name} DISCOVERY_MODE PRE_TEST DISCOVERY_TIMEOUT 60
     PROPERTIES TIMEOUT ${ARG_TIMEOUT}
     ENVIRONMENT "MCVIO_SHARED_DIR=${shared_dir}")
 endfunction()
