@@ -445,7 +445,11 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
       for (const auto id : frontend.inconsistent)
         if (cam0.count(id) != 0 && classifier_.addVerdict(id, true)) d.eliminate.push_back(id);
   }
-  if (!was_active && state != conflict::ConflictIntervalTracker::State::kNone) active_since_ = t;
+  // Probation (onProbation) covers the tracks born on the frame before too: an occluder's first
+  // tracks appear one frame before they can disagree, and their second observation pulled the
+  // pose on the very frame that raised the suspicion.
+  if (!was_active && state != conflict::ConflictIntervalTracker::State::kNone)
+    active_since_ = history_.empty() ? t : history_.back().t;
   d.report.state = state == conflict::ConflictIntervalTracker::State::kConflict    ? ConflictReport::State::kConflict
                    : state == conflict::ConflictIntervalTracker::State::kSuspected ? ConflictReport::State::kSuspected
                                                                                     : ConflictReport::State::kNone;

@@ -893,3 +893,36 @@ TEST(MotionConflictMonitor, NoProbationInReferenceModeOrWhenDisabled) {
   o.new_landmark_probation = false;
   for (const auto& f : run(pedestrianSceneWithLateTracks(), o, kPedestrianFrames)) EXPECT_TRUE(f.on_probation.empty());
 }
+
+TEST(MotionConflictMonitor, TracksBornTheFrameBeforeTheSuspicionWaitToo) {
+  // An occluder's tracks appear one frame before they can disagree with anything; their second
+  // observation would pull the pose on the frame that raised the suspicion.
+  const conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
+  const auto isActive = [](const Frame& f) { return f.decision.report.state != ConflictReport::State::kNone; };
+  const int first_active = firstFrame(run(pedestrianScene(), o, kPedestrianFrames), isActive);
+  ASSERT_GT(first_active, kWalkFrame);
+  constexpr std::uint64_t kBornBefore = 700, kBornEarlier = 800;
+  Scenario sc = pedestrianScene();
+  auto born_before = staticPoints(20, kBornBefore, 21);
+  for (auto& p : born_before) p.appear_s = frameSeconds(first_active - 1);
+  auto born_earlier = staticPoints(20, kBornEarlier, 22);
+  for (auto& p : born_earlier) p.appear_s = frameSeconds(first_active - 2);
+  sc.points.insert(sc.points.end(), born_before.begin(), born_before.end());
+  sc.points.insert(sc.points.end(), born_earlier.begin(), born_earlier.end());
+  const auto frames = run(sc, o, kPedestrianFrames);
+  ASSERT_EQ(firstFrame(frames, isActive), first_active) << "the added static tracks moved the onset";
+  const Frame& f = frames[static_cast<std::size_t>(first_active)];
+  int before = 0, earlier = 0;
+  for (const auto id : f.observed) {
+    if (id >= kBornBefore && id < kBornBefore + 20) {
+      ++before;
+      EXPECT_EQ(f.on_probation.count(id), 1u) << "track " << id << " born the frame before";
+    }
+    if (id >= kBornEarlier && id < kBornEarlier + 20) {
+      ++earlier;
+      EXPECT_EQ(f.on_probation.count(id), 0u) << "track " << id << " born two frames before";
+    }
+  }
+  EXPECT_GT(before, 10);
+  EXPECT_GT(earlier, 10);
+}

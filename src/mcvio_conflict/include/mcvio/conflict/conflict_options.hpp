@@ -140,7 +140,8 @@ struct ConflictOptions {
   /// on the opening frame, it sent the slow object of seed 3 IMU-dominated: 0.053 -> 0.142 m.)
   /// The feature-level simulator has no frontend labels: no change there.
   bool frontend_labels_outside_conflicts = true;
-  /// Selective: while a conflict is suspected or open, a landmark created after it began stays out
+  /// Selective: while a conflict is suspected or open, a landmark created after it began (or on the
+  /// frame before: an occluder's tracks appear one frame before they can disagree) stays out
   /// of the estimate until the landmark detector has found it consistent (it needs the horizon to
   /// be tested at all). A walking pedestrian keeps bringing new tracks whose pull on the pose came
   /// before any test could eliminate them.
