@@ -3,8 +3,10 @@
 #include <chrono>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <thread>
 
+#include "mcvio/components/playback_pacer.hpp"
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/core/progress_bar.hpp"
 #include "mcvio/dds/shutdown_signal.hpp"
@@ -63,15 +65,29 @@ PlaybackSummary BagPlayer::run() {
     ProgressBar bar("play", total, options_.progress);
     const auto pass_start = Clock::now();
     Timestamp t_first = -1;
-    std::size_t done = 0;
+    std::size_t done = 0, position = 0;
+    std::optional<PlaybackPacer> pacer;
+    bool warned_backwards = false;
     bag::BagMessage m;
     while (!dds::ShutdownSignal::requested() && reader.next(m)) {
+      ++position;
       if (t_first < 0) t_first = m.log_time + fromSeconds(options_.start_s);
       if (m.log_time < t_first) continue;
       if (options_.duration_s > 0 && m.log_time > t_first + fromSeconds(options_.duration_s)) break;
       if (!options_.lossless) {
-        const double offset_s = toSeconds(m.log_time - t_first) / options_.rate;
-        std::this_thread::sleep_until(pass_start + std::chrono::nanoseconds(static_cast<std::int64_t>(offset_s * 1e9)));
+        if (!pacer) pacer.emplace(t_first, options_.rate, options_.max_gap_s);
+        const auto step = pacer->next(m.log_time);
+        if (step.skipped_s > 0 || (step.backwards && !warned_backwards)) {
+          std::cerr << "mcvio play: warning: " << reader.where(m) << " (message " << position
+                    << (topic_filter_.empty() ? " of " + std::to_string(total) : std::string(" of the selection"))
+                    << "): " << PlaybackPacer::describe(step, options_.max_gap_s) << "\n";
+        }
+        if (step.skipped_s > 0) {
+          ++summary.shortened_gaps;
+          summary.skipped_gap_seconds += step.skipped_s;
+        }
+        warned_backwards = warned_backwards || step.backwards;  // once per pass: the reader sorts
+        std::this_thread::sleep_until(pass_start + step.wall_offset);
       }
       auto it = pubs.find(m.topic);
       if (it == pubs.end()) continue;

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "mcvio/components/playback_pacer.hpp"
 #include "mcvio/components/ros_conversions.hpp"
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/core/progress_bar.hpp"
@@ -36,6 +37,9 @@ void PlayerOptions::validate() const {
   if (min_readers < 0) throw std::invalid_argument("player: min_readers must be >= 0");
   if (settle_s < 0) throw std::invalid_argument("player: settle_s must be >= 0");
   if (start_s < 0 || duration_s < 0) throw std::invalid_argument("player: start_s and duration_s must be >= 0");
+  if (!(max_gap_s >= 0)) {
+    throw std::invalid_argument("player: max_gap_s must be >= 0 (0 = never shorten a gap), got " + std::to_string(max_gap_s));
+  }
 }
 
 Player::Player(std::shared_ptr<dds::Node> node, const dataset::EurocDataset& data, PlayerOptions options)
@@ -97,10 +101,20 @@ PlaybackSummary Player::run() {
     ProgressBar bar("play", total, options_.progress);
     const auto pass_start = Clock::now();
     std::size_t done = 0;
+    PlaybackPacer pacer(t_first, options_.rate, options_.max_gap_s);
     for (auto it = begin; it != end && !dds::ShutdownSignal::requested(); ++it, ++done) {
       if (!options_.lossless) {
-        const double offset_s = toSeconds(it->t - t_first) / options_.rate;
-        std::this_thread::sleep_until(pass_start + std::chrono::nanoseconds(static_cast<std::int64_t>(offset_s * 1e9)));
+        // The events are sorted, so only gaps need handling here.
+        const auto step = pacer.next(it->t);
+        if (step.skipped_s > 0) {
+          static const char* const kTopic[] = {"/cam0/image_raw", "/imu0", "/ground_truth/odometry"};
+          std::cerr << "mcvio play: warning: " << data_.root() << ": topic " << kTopic[it->kind] << ", event "
+                    << done + 1 << " of " << total << " at " << it->t << " ns: "
+                    << PlaybackPacer::describe(step, options_.max_gap_s) << "\n";
+          ++summary.shortened_gaps;
+          summary.skipped_gap_seconds += step.skipped_s;
+        }
+        std::this_thread::sleep_until(pass_start + step.wall_offset);
       }
       bool ok = true;
       switch (it->kind) {

@@ -26,6 +26,10 @@ struct PlayerOptions {
   /// Skip this much of the start and stop after this much (0 = all) [s].
   double start_s = 0.0;
   double duration_s = 0.0;
+  /// A gap between consecutive messages longer than this (data time) is played as this long, with
+  /// a warning: a far-future stamp in a damaged bag or a long pause in a recording would otherwise
+  /// look like a hang. 10 s keeps the timing of any topic of 0.1 Hz or more. 0 = never shorten [s].
+  double max_gap_s = 10.0;
 
   /// Throws std::invalid_argument naming the field.
   void validate() const;
@@ -35,6 +39,8 @@ struct PlaybackSummary {
   std::size_t messages = 0;  ///< everything published
   std::size_t frames = 0, imu_samples = 0, ground_truth = 0;
   std::size_t skipped_frames = 0;  ///< images that could not be loaded (logged)
+  std::size_t shortened_gaps = 0;  ///< gaps longer than max_gap_s (logged)
+  double skipped_gap_seconds = 0;  ///< data time not waited for because of them
   double wall_seconds = 0, data_seconds = 0;
   bool interrupted = false;
 };
