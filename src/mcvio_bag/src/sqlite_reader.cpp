@@ -2,6 +2,8 @@
 
 #include <sqlite3.h>
 
+#include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 
@@ -39,6 +41,22 @@ std::filesystem::path sibling(const std::filesystem::path& path, const char* suf
   std::filesystem::path p = path;
   p += suffix;
   return p;
+}
+
+/// `path` for an sqlite file: URI: '?' and '#' would end the path, '%' starts an escape.
+std::string uriPath(const std::filesystem::path& path) {
+  std::string out;
+  for (const char c : std::filesystem::absolute(path).string()) {
+    if (c == '?' || c == '#' || c == '%') {
+      static const char kHex[] = "0123456789ABCDEF";
+      out += '%';
+      out += kHex[static_cast<unsigned char>(c) >> 4];
+      out += kHex[c & 0xF];
+    } else {
+      out += c;
+    }
+  }
+  return out;
 }
 
 std::uint64_t sizeOr0(const std::filesystem::path& p) {
@@ -134,16 +152,23 @@ bool SqliteReader::looksLikeSqlite(const std::filesystem::path& path) {
 SqliteReader::SqliteReader(const std::filesystem::path& path, Compression message_compression)
     : name_(path.string()), compression_(message_compression) {
   checkMagic(path);
-  // A file with a live WAL or a hot rollback journal (killed writer) needs write access to
-  // replay or roll it back; otherwise read only.
-  const bool leftover = std::filesystem::exists(sibling(path, "-wal")) ||
-                        std::filesystem::exists(sibling(path, "-journal"));
-  const int flags = leftover ? SQLITE_OPEN_READWRITE : SQLITE_OPEN_READONLY;
-  if (sqlite3_open_v2(path.c_str(), &db_, flags, nullptr) != SQLITE_OK) {
-    const std::string why = db_ ? sqlite3_errmsg(db_) : "out of memory";
-    sqlite3_close(db_);
-    db_ = nullptr;
-    throw InputError(name_ + ": cannot open sqlite3 database: " + why);
+  // Readers must leave a recording byte-identical (read-only media, checksums): a read-only
+  // connection still sees a killed writer's -wal but never checkpoints it into the .db3 nor
+  // deletes it; only `bag reindex` folds it in. sqlite may create the -shm (its wal-index, no
+  // data) beside the file, which is far cheaper than copying a large .db3.
+  std::string why;
+  if (!openDatabase(path, /*read_only=*/true, why)) {
+    // A read-only folder without a -shm (or a hot -journal, which must be rolled back before
+    // the file reads consistently): replay it in a private copy instead of the user's files.
+    const bool leftover = std::filesystem::exists(sibling(path, "-wal")) ||
+                          std::filesystem::exists(sibling(path, "-journal"));
+    if (!leftover) throw InputError(name_ + ": cannot open sqlite3 database: " + why);
+    const auto copy = copyToTempDir(path);
+    if (!openDatabase(copy, /*read_only=*/false, why)) {
+      removeTempDir();
+      throw InputError(name_ + ": cannot open sqlite3 database (also not a temporary copy " +
+                       copy.string() + "): " + why);
+    }
   }
   try {
     sqlite3_stmt* st = nullptr;
@@ -197,8 +222,57 @@ SqliteReader::SqliteReader(const std::filesystem::path& path, Compression messag
   } catch (...) {
     sqlite3_close(db_);
     db_ = nullptr;
+    removeTempDir();
     throw;
   }
+}
+
+bool SqliteReader::openDatabase(const std::filesystem::path& path, bool read_only,
+                                std::string& why) {
+  // mode=ro in the URI as well: a read-only open must not fall back to read-write.
+  const std::string uri = "file:" + uriPath(path) + (read_only ? "?mode=ro" : "");
+  const int flags = (read_only ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE) | SQLITE_OPEN_URI;
+  int rc = sqlite3_open_v2(uri.c_str(), &db_, flags, nullptr);
+  if (rc == SQLITE_OK) {
+    // The -wal and -shm are opened at the first read, not by sqlite3_open_v2: read now so a
+    // folder where they cannot be used fails here. Other errors (a damaged file) are reported
+    // by the checks that follow.
+    rc = sqlite3_exec(db_, "SELECT COUNT(*) FROM sqlite_master;", nullptr, nullptr, nullptr);
+    if ((rc & 0xFF) != SQLITE_CANTOPEN && (rc & 0xFF) != SQLITE_READONLY) return true;
+  }
+  why = db_ ? sqlite3_errmsg(db_) : "out of memory";
+  sqlite3_close(db_);
+  db_ = nullptr;
+  return false;
+}
+
+std::filesystem::path SqliteReader::copyToTempDir(const std::filesystem::path& path) {
+  std::string tmpl = (std::filesystem::temp_directory_path() / "mcvio_sqlite_XXXXXX").string();
+  if (!mkdtemp(tmpl.data())) {
+    throw InputError(name_ + ": cannot create a temporary directory for a copy to read (" +
+                     std::strerror(errno) + ")");
+  }
+  temp_dir_ = tmpl;
+  const auto copy = temp_dir_ / path.filename();
+  try {
+    std::filesystem::copy_file(path, copy);
+    for (const char* suffix : {"-wal", "-journal"}) {
+      if (std::filesystem::exists(sibling(path, suffix))) {
+        std::filesystem::copy_file(sibling(path, suffix), sibling(copy, suffix));
+      }
+    }
+  } catch (const std::filesystem::filesystem_error& e) {
+    removeTempDir();
+    throw InputError(name_ + ": cannot copy it to a temporary directory to read: " + e.what());
+  }
+  return copy;
+}
+
+void SqliteReader::removeTempDir() {
+  if (temp_dir_.empty()) return;
+  std::error_code ec;
+  std::filesystem::remove_all(temp_dir_, ec);
+  temp_dir_.clear();
 }
 
 std::set<std::string> SqliteReader::columns(const std::string& table) const {
@@ -294,6 +368,7 @@ void SqliteReader::readTopics(bool has_definitions) {
 SqliteReader::~SqliteReader() {
   if (cursor_) sqlite3_finalize(cursor_);
   if (db_) sqlite3_close(db_);
+  removeTempDir();
 }
 
 void SqliteReader::fail(const std::string& what) const {

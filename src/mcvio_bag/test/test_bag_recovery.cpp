@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sqlite3.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -9,9 +10,11 @@
 #include <set>
 
 #include "bag_test_util.hpp"
+#include "mcvio/bag/bag_info.hpp"
 #include "mcvio/bag/bag_reader.hpp"
 #include "mcvio/bag/bag_reindexer.hpp"
 #include "mcvio/bag/bag_writer.hpp"
+#include "mcvio/bag/crc32.hpp"
 #include "mcvio/bag/mcap_reader.hpp"
 #include "mcvio/core/input_error.hpp"
 
@@ -151,6 +154,129 @@ TEST(Recovery, UnclosedWritersInAChildProcess) {
     EXPECT_EQ(md.topics_with_message_count.size(), 2u);
     expectPrefix(test::readAll(dir), 100);
   }
+}
+
+/// An sqlite3 bag whose writer process ended without close(): 100 messages committed, most of
+/// them only in `<file>.db3-wal` (the writer checkpoints at close). Returns the .db3.
+std::filesystem::path killedSqliteBag(const std::filesystem::path& dir) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    BagWriterOptions o;
+    o.storage = "sqlite3";
+    o.chunk_size = 2048;
+    BagWriter w(dir, o);
+    w.addTopic(test::stringTopic("/a"));
+    w.addTopic(test::stringTopic("/b"));
+    for (int i = 0; i < 100; ++i) writeMessage(w, i);
+    w.flush();
+    _exit(0);  // no close(): the -wal stays
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status));
+  return dir / (dir.filename().string() + "_0.db3");
+}
+
+/// Messages in the .db3 alone, its -wal ignored (immutable: opened without touching any file).
+long long messagesWithoutWal(const std::filesystem::path& db3) {
+  sqlite3* db = nullptr;
+  long long n = -1;
+  const std::string uri = "file:" + db3.string() + "?immutable=1";
+  if (sqlite3_open_v2(uri.c_str(), &db, SQLITE_OPEN_READONLY | SQLITE_OPEN_URI, nullptr) ==
+      SQLITE_OK) {
+    sqlite3_stmt* st = nullptr;
+    if (sqlite3_prepare_v2(db, "SELECT COUNT(*) FROM messages;", -1, &st, nullptr) == SQLITE_OK &&
+        sqlite3_step(st) == SQLITE_ROW) {
+      n = sqlite3_column_int64(st, 0);
+    }
+    sqlite3_finalize(st);
+  }
+  sqlite3_close(db);
+  return n;
+}
+
+std::vector<std::uint8_t> fileBytes(const std::filesystem::path& p);
+
+/// "<size> bytes, CRC-32 <crc>", or "missing": readable when a comparison fails.
+std::string checksum(const std::filesystem::path& p) {
+  if (!std::filesystem::exists(p)) return "missing";
+  const auto bytes = fileBytes(p);
+  return std::to_string(bytes.size()) + " bytes, CRC-32 " +
+         std::to_string(Crc32::update(0, bytes.data(), bytes.size()));
+}
+
+/// bag info's warnings, one per line.
+std::string joined(const std::vector<std::string>& warnings) {
+  std::string out;
+  for (const auto& w : warnings) out += w + "\n";
+  return out;
+}
+
+std::filesystem::path withSuffix(std::filesystem::path p, const char* suffix) {
+  p += suffix;
+  return p;
+}
+
+/// Reading (BagReader, bag info) must not fold a killed writer's -wal into the .db3 or delete
+/// it, yet must return the messages that live only in the -wal. Also without a -shm (a copied
+/// bag), which sqlite then creates beside the file.
+TEST(Recovery, ReadingSqliteLeavesTheWriteAheadLogAndFileUntouched) {
+  for (const bool keep_shm : {true, false}) {
+    SCOPED_TRACE(keep_shm ? "with -shm" : "without -shm");
+    const auto dir =
+        test::freshPath(std::string("sqlite_wal_read_") + (keep_shm ? "shm" : "noshm"));
+    const auto db3 = killedSqliteBag(dir);
+    const auto wal = withSuffix(db3, "-wal");
+    ASSERT_TRUE(std::filesystem::exists(wal));
+    if (!keep_shm) std::filesystem::remove(withSuffix(db3, "-shm"));
+    const auto db3_sum = checksum(db3);
+    const auto wal_sum = checksum(wal);
+    ASSERT_LT(messagesWithoutWal(db3), 100) << "the test needs messages only in the -wal";
+    expectPrefix(test::readAll(dir), 100);
+    std::vector<std::string> w;
+    bagInfo(dir, &w);
+    // metadata.yaml of a killed writer lists no message; the storage (its -wal) all of them.
+    EXPECT_NE(joined(w).find("the storage files hold 100"), std::string::npos) << joined(w);
+    EXPECT_EQ(checksum(db3), db3_sum) << "the .db3 was modified";
+    EXPECT_EQ(checksum(wal), wal_sum) << "the -wal was modified or deleted";
+    // The repair command is the one that folds the log in.
+    EXPECT_EQ(BagReindexer::reindex(dir).message_count, 100u);
+    EXPECT_FALSE(std::filesystem::exists(wal));
+    expectPrefix(test::readAll(dir), 100);
+  }
+}
+
+/// A killed writer's bag on read-only media (folder and files not writable, no -shm, which
+/// sqlite cannot create there) is still read completely, and stays as it was.
+TEST(Recovery, SqliteWithWriteAheadLogInAReadOnlyFolderIsReadCompletely) {
+  if (geteuid() == 0) GTEST_SKIP() << "root ignores file permissions";
+  const auto dir = test::freshPath("sqlite_wal_read_only");
+  const auto db3 = killedSqliteBag(dir);
+  const auto wal = withSuffix(db3, "-wal");
+  std::filesystem::remove(withSuffix(db3, "-shm"));
+  const auto db3_sum = checksum(db3);
+  const auto wal_sum = checksum(wal);
+  ASSERT_LT(messagesWithoutWal(db3), 100);
+  const auto no_write = std::filesystem::perms::owner_write | std::filesystem::perms::group_write |
+                        std::filesystem::perms::others_write;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    std::filesystem::permissions(e.path(), no_write, std::filesystem::perm_options::remove);
+  }
+  std::filesystem::permissions(dir, no_write, std::filesystem::perm_options::remove);
+  std::vector<BagMessage> got;
+  std::vector<std::string> w;
+  try {
+    got = test::readAll(dir);
+    bagInfo(dir, &w);
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << e.what();
+  }
+  std::filesystem::permissions(dir, no_write, std::filesystem::perm_options::add);
+  expectPrefix(got, 100);
+  EXPECT_NE(joined(w).find("the storage files hold 100"), std::string::npos) << joined(w);
+  EXPECT_FALSE(std::filesystem::exists(withSuffix(db3, "-shm")));
+  EXPECT_EQ(checksum(db3), db3_sum);
+  EXPECT_EQ(checksum(wal), wal_sum);
 }
 
 /// A real recorder process killed with SIGKILL while writing: reindex recovers at least every

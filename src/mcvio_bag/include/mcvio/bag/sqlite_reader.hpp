@@ -21,6 +21,9 @@ namespace mcvio::bag {
 /// that are not non-negative integers, data that is NULL or not a BLOB (an empty BLOB is an
 /// empty message, as the writer stores it).
 /// sqlite stores no publish time: messages come back with publish_time = log_time.
+/// The file and its -wal are never modified: committed transactions still in a -wal are read;
+/// where sqlite cannot read them in place (a read-only folder without a -shm, a hot -journal)
+/// a temporary copy is read instead.
 class SqliteReader : public StorageFileReader {
  public:
   /// `message_compression` is the bag's rosbag2 message compression (metadata.yaml).
@@ -51,6 +54,11 @@ class SqliteReader : public StorageFileReader {
 
  private:
   [[noreturn]] void fail(const std::string& what) const;
+  /// Opens `path` into db_ and reads its schema once; false (db_ null, `why` set) on failure.
+  bool openDatabase(const std::filesystem::path& path, bool read_only, std::string& why);
+  /// Copies the file with its -wal / -journal into a new temp_dir_; returns the copy's path.
+  std::filesystem::path copyToTempDir(const std::filesystem::path& path);
+  void removeTempDir();
   void readTopics(bool has_definitions);
   /// The column names of `table`.
   std::set<std::string> columns(const std::string& table) const;
@@ -65,6 +73,8 @@ class SqliteReader : public StorageFileReader {
   std::vector<std::string> warnings_;
   bool filtered_ = false;
   std::vector<std::uint8_t> scratch_;
+  /// A private copy's directory, removed with the reader (empty when the file is read in place).
+  std::filesystem::path temp_dir_;
 };
 
 }  // namespace mcvio::bag
