@@ -118,28 +118,35 @@ TEST(Recovery, TruncatedMcapKeepsEveryCompleteChunk) {
   }
 }
 
+/// Writes 100 messages to a bag in a child process that flushes and exits without close() or
+/// destructors, like a kill after the flush; with `buffered_tail` one more message, smaller than
+/// a chunk, stays buffered and is never persisted. False when the child did not exit normally.
+bool writeWithoutClosing(const std::filesystem::path& dir, const std::string& storage, bool buffered_tail) {
+  const pid_t pid = fork();
+  if (pid < 0) return false;
+  if (pid == 0) {
+    BagWriterOptions o;
+    o.storage = storage;
+    o.chunk_size = 2048;
+    BagWriter w(dir, o);
+    w.addTopic(test::stringTopic("/a"));
+    w.addTopic(test::stringTopic("/b"));
+    for (int i = 0; i < 100; ++i) writeMessage(w, i);
+    w.flush();
+    if (buffered_tail) writeMessage(w, 100);
+    _exit(0);
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status);
+}
+
 /// A writer that never closes (process gone after flushing) leaves data the reader refuses
 /// strictly, reads with allow_unfinished, and reindex restores fully.
 TEST(Recovery, UnclosedWritersInAChildProcess) {
   for (const std::string storage : {"mcap", "sqlite3"}) {
     const auto dir = test::freshPath("unclosed_" + storage);
-    const pid_t pid = fork();
-    ASSERT_GE(pid, 0);
-    if (pid == 0) {
-      BagWriterOptions o;
-      o.storage = storage;
-      o.chunk_size = 2048;
-      BagWriter w(dir, o);
-      w.addTopic(test::stringTopic("/a"));
-      w.addTopic(test::stringTopic("/b"));
-      for (int i = 0; i < 100; ++i) writeMessage(w, i);
-      w.flush();
-      writeMessage(w, 100);  // smaller than a chunk: buffered, never persisted
-      _exit(0);              // no close(), no destructors: like a kill after the flush
-    }
-    int status = 0;
-    waitpid(pid, &status, 0);
-    ASSERT_TRUE(WIFEXITED(status));
+    ASSERT_TRUE(writeWithoutClosing(dir, storage, /*buffered_tail=*/true));
     if (storage == "mcap") {
       EXPECT_THROW(test::readAll(dir), InputError);
       BagReaderOptions ro;
@@ -159,21 +166,7 @@ TEST(Recovery, UnclosedWritersInAChildProcess) {
 /// An sqlite3 bag whose writer process ended without close(): 100 messages committed, most of
 /// them only in `<file>.db3-wal` (the writer checkpoints at close). Returns the .db3.
 std::filesystem::path killedSqliteBag(const std::filesystem::path& dir) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    BagWriterOptions o;
-    o.storage = "sqlite3";
-    o.chunk_size = 2048;
-    BagWriter w(dir, o);
-    w.addTopic(test::stringTopic("/a"));
-    w.addTopic(test::stringTopic("/b"));
-    for (int i = 0; i < 100; ++i) writeMessage(w, i);
-    w.flush();
-    _exit(0);  // no close(): the -wal stays
-  }
-  int status = 0;
-  waitpid(pid, &status, 0);
-  EXPECT_TRUE(WIFEXITED(status));
+  EXPECT_TRUE(writeWithoutClosing(dir, "sqlite3", /*buffered_tail=*/false));
   return dir / (dir.filename().string() + "_0.db3");
 }
 
@@ -249,7 +242,6 @@ TEST(Recovery, ReadingSqliteLeavesTheWriteAheadLogAndFileUntouched) {
 /// A killed writer's bag on read-only media (folder and files not writable, no -shm, which
 /// sqlite cannot create there) is still read completely, and stays as it was.
 TEST(Recovery, SqliteWithWriteAheadLogInAReadOnlyFolderIsReadCompletely) {
-  if (geteuid() == 0) GTEST_SKIP() << "root ignores file permissions";
   const auto dir = test::freshPath("sqlite_wal_read_only");
   const auto db3 = killedSqliteBag(dir);
   const auto wal = withSuffix(db3, "-wal");
@@ -263,17 +255,37 @@ TEST(Recovery, SqliteWithWriteAheadLogInAReadOnlyFolderIsReadCompletely) {
     std::filesystem::permissions(e.path(), no_write, std::filesystem::perm_options::remove);
   }
   std::filesystem::permissions(dir, no_write, std::filesystem::perm_options::remove);
-  std::vector<BagMessage> got;
-  std::vector<std::string> w;
-  try {
-    got = test::readAll(dir);
-    bagInfo(dir, &w);
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << e.what();
+  const auto readEverything = [&dir] {
+    std::vector<BagMessage> got;
+    std::vector<std::string> w;
+    try {
+      got = test::readAll(dir);
+      bagInfo(dir, &w);
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << e.what();
+    }
+    expectPrefix(got, 100);
+    EXPECT_NE(joined(w).find("the storage files hold 100"), std::string::npos) << joined(w);
+  };
+  if (geteuid() != 0) {
+    readEverything();
+  } else {
+    // Root writes whatever the permissions say (CI runs as root): read as nobody instead, in a
+    // child whose failures come back as its exit status.
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      if (setgid(65534) != 0 || setuid(65534) != 0) _exit(2);
+      readEverything();
+      _exit(::testing::Test::HasFailure() ? 1 : 0);
+    }
+    int status = 0;
+    waitpid(pid, &status, 0);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_NE(WEXITSTATUS(status), 2) << "could not drop privileges to uid/gid 65534";
+    EXPECT_EQ(WEXITSTATUS(status), 0) << "reading as an unprivileged user failed (see above)";
   }
   std::filesystem::permissions(dir, no_write, std::filesystem::perm_options::add);
-  expectPrefix(got, 100);
-  EXPECT_NE(joined(w).find("the storage files hold 100"), std::string::npos) << joined(w);
   EXPECT_FALSE(std::filesystem::exists(withSuffix(db3, "-shm")));
   EXPECT_EQ(checksum(db3), db3_sum);
   EXPECT_EQ(checksum(wal), wal_sum);
