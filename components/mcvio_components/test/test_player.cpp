@@ -21,6 +21,14 @@ using namespace mcvio;
 
 namespace {
 
+/// A participant on a test domain of its own (per process, per test): parallel test runs must
+/// not hear each other.
+std::shared_ptr<mcvio::dds::Participant> testParticipant(int salt) {
+  mcvio::dds::ParticipantOptions po;
+  po.domain_id = 100 + static_cast<int>((getpid() + salt) % 100);
+  return mcvio::dds::Participant::create(po);
+}
+
 StereoRigCalibration smallRig() {
   StereoRigCalibration rig;
   for (int c = 0; c < 2; ++c) {
@@ -64,9 +72,7 @@ TEST(Player, LosslessDeliversEverySampleWithDatasetStampsAndFrameIds) {
   const auto data = dataset::EurocDataset::open(dir);
   ASSERT_EQ(data.stereoFrames().size(), static_cast<std::size_t>(kFrames));
 
-  mcvio::dds::ParticipantOptions po;
-  po.domain_id = 100 + static_cast<int>(getpid() % 100);
-  auto participant = mcvio::dds::Participant::create(po);
+  auto participant = testParticipant(0);
   auto listener = participant->createNode("listener");
   std::mutex m;
   std::map<std::string, std::vector<Timestamp>> stamps;
@@ -86,7 +92,7 @@ TEST(Player, LosslessDeliversEverySampleWithDatasetStampsAndFrameIds) {
   auto s5 = listener->createSubscription<nav_msgs::msg::dds_::Odometry_>(
       "/ground_truth/odometry", qos, [&](const nav_msgs::msg::dds_::Odometry_& m) { record("/ground_truth/odometry", m.header(), "world"); });
 
-  auto player_participant = mcvio::dds::Participant::create(po);
+  auto player_participant = testParticipant(0);  // the listener's domain
   components::PlayerOptions opts;
   opts.lossless = true;
   opts.progress = false;
@@ -111,9 +117,7 @@ TEST(Player, LosslessDeliversEverySampleWithDatasetStampsAndFrameIds) {
 TEST(Player, LosslessWithoutReadersFailsClearly) {
   const auto dir = writeSequence(2);
   const auto data = dataset::EurocDataset::open(dir);
-  mcvio::dds::ParticipantOptions po;
-  po.domain_id = 100 + static_cast<int>((getpid() + 50) % 100);
-  auto participant = mcvio::dds::Participant::create(po);
+  auto participant = testParticipant(50);
   components::PlayerOptions opts;
   opts.lossless = true;
   opts.progress = false;
@@ -155,9 +159,7 @@ TEST(BagPlayer, PayloadWithoutCdrHeaderIsAnInputError) {
     w.write("/chatter", 1000, 1000, hello.data(), hello.size());
     w.write("/chatter", 2000, 2000, hello.data(), 0);
   }
-  mcvio::dds::ParticipantOptions po;
-  po.domain_id = 100 + static_cast<int>((getpid() + 31) % 100);
-  auto participant = mcvio::dds::Participant::create(po);
+  auto participant = testParticipant(31);
   components::PlayerOptions opts;
   opts.lossless = true;
   opts.progress = false;
@@ -264,9 +266,7 @@ std::string writeChatterBag(const std::string& name, double far_s) {
 }
 
 components::PlaybackSummary playPaced(const std::string& dir, double max_gap_s, int domain_offset, std::string* err) {
-  mcvio::dds::ParticipantOptions po;
-  po.domain_id = 100 + static_cast<int>((getpid() + domain_offset) % 100);
-  auto participant = mcvio::dds::Participant::create(po);
+  auto participant = testParticipant(domain_offset);
   components::PlayerOptions opts;
   opts.progress = false;
   opts.min_readers = 0;
@@ -336,9 +336,7 @@ TEST(Player, FarFutureImuSampleIsNotSleptThrough) {
     w.close();
   }
   const auto data = dataset::EurocDataset::open(dir);
-  mcvio::dds::ParticipantOptions po;
-  po.domain_id = 100 + static_cast<int>((getpid() + 43) % 100);
-  auto participant = mcvio::dds::Participant::create(po);
+  auto participant = testParticipant(43);
   components::PlayerOptions opts;
   opts.progress = false;
   opts.min_readers = 0;

@@ -30,6 +30,13 @@ void writeMessage(BagWriter& w, int i) {
   w.write(i % 2 ? "/a" : "/b", kT0 + i * 1000, kT0 + i * 1000, data.data(), data.size());
 }
 
+/// Topics /a and /b, then messages 0 .. count-1 alternating between them.
+void writeTopicsAndMessages(BagWriter& w, int count) {
+  w.addTopic(test::stringTopic("/a"));
+  w.addTopic(test::stringTopic("/b"));
+  for (int i = 0; i < count; ++i) writeMessage(w, i);
+}
+
 /// Every message read back is message i of the sequence, in order, and there are `n` of them.
 void expectPrefix(const std::vector<BagMessage>& got, std::size_t n) {
   ASSERT_EQ(got.size(), n);
@@ -46,9 +53,7 @@ std::filesystem::path writeChunkedBag(const std::filesystem::path& dir, Compress
   o.chunk_size = 4096;
   {
     BagWriter w(dir, o);
-    w.addTopic(test::stringTopic("/a"));
-    w.addTopic(test::stringTopic("/b"));
-    for (int i = 0; i < 120; ++i) writeMessage(w, i);
+    writeTopicsAndMessages(w, 120);
   }
   return dir / (dir.filename().string() + "_0.mcap");
 }
@@ -129,9 +134,7 @@ bool writeWithoutClosing(const std::filesystem::path& dir, const std::string& st
     o.storage = storage;
     o.chunk_size = 2048;
     BagWriter w(dir, o);
-    w.addTopic(test::stringTopic("/a"));
-    w.addTopic(test::stringTopic("/b"));
-    for (int i = 0; i < 100; ++i) writeMessage(w, i);
+    writeTopicsAndMessages(w, 100);
     w.flush();
     if (buffered_tail) writeMessage(w, 100);
     _exit(0);
@@ -469,9 +472,7 @@ TEST(Recovery, ReindexRebuildsALostMetadataFile) {
   o.max_bagfile_size = 20000;
   {
     BagWriter w(dir, o);
-    w.addTopic(test::stringTopic("/a"));
-    w.addTopic(test::stringTopic("/b"));
-    for (int i = 0; i < 200; ++i) writeMessage(w, i);
+    writeTopicsAndMessages(w, 200);
   }
   const BagMetadata before = readBagMetadata(dir);
   std::filesystem::remove(dir / "metadata.yaml");
