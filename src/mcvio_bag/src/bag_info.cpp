@@ -1,12 +1,16 @@
 #include "mcvio/bag/bag_info.hpp"
 
+#include <cstring>
 #include <ctime>
+#include <fstream>
 #include <iomanip>
 #include <map>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "mcvio/bag/mcap_reader.hpp"
+#include "mcvio/bag/mcap_records.hpp"
 #include "mcvio/bag/sqlite_reader.hpp"
 #include "mcvio/core/input_error.hpp"
 
@@ -107,7 +111,59 @@ std::unique_ptr<StorageFileReader> openStorageFile(const std::filesystem::path& 
 }
 
 std::string storageOfExtension(const std::filesystem::path& p) {
-  return p.extension() == ".db3" ? "sqlite3" : "mcap";
+  if (p.extension() == ".db3") return "sqlite3";
+  return p.extension() == ".mcap" ? "mcap" : "";
+}
+
+/// The storage a file's first bytes show: "mcap", "sqlite3" or "".
+std::string storageOfContent(const std::filesystem::path& p) {
+  if (SqliteReader::looksLikeSqlite(p)) return "sqlite3";
+  char head[sizeof(mcap::kMagic)] = {};
+  std::ifstream in(p, std::ios::binary);
+  in.read(head, sizeof(head));
+  return in.gcount() == sizeof(head) && std::memcmp(head, mcap::kMagic, sizeof(head)) == 0 ? "mcap"
+                                                                                           : "";
+}
+
+/// What to add to the error of a storage file that does not open: what `mcvio bag reindex`
+/// (run as `reindex`) does about it, only where it repairs the problem (see BagReindexer:
+/// it picks files by extension, finishes or rebuilds MCAP files that start as MCAP, folds an
+/// sqlite3 write-ahead log in, rewrites metadata.yaml); otherwise that it cannot.
+/// `mcap_recoverable`: an MCAP file whose intact records a recovering scan (reindex) reads.
+std::string openFailureHint(const std::filesystem::path& p, const std::string& storage,
+                            const std::string& reindex, bool& mcap_recoverable) {
+  mcap_recoverable = false;
+  const std::string by_extension = storageOfExtension(p);
+  const std::string by_content = storageOfContent(p);
+  if (!by_content.empty() && by_content == by_extension && by_content != storage) {
+    return "; metadata.yaml's storage_identifier is wrong for it: " + reindex +
+           " rewrites metadata.yaml from the files";
+  }
+  if (storage == "mcap" && by_content == "mcap" && by_extension == "mcap") {
+    const McapLayout layout = McapReader::layoutOf(p);
+    mcap_recoverable = layout != McapLayout::NotMcap;
+    switch (layout) {
+      case McapLayout::Unfinished:
+        return "; " + reindex + " finishes the file, keeping every intact chunk";
+      case McapLayout::Finished:
+        return "; " + reindex +
+               " rebuilds its summary and indexes from the intact records (a damaged record is "
+               "dropped with its messages, the original kept as " +
+               p.filename().string() + ".orig)";
+      case McapLayout::NotMcap:
+        break;
+    }
+  }
+  if (storage == "sqlite3" && by_extension == "sqlite3") {
+    std::error_code ec;
+    std::filesystem::path wal = p;
+    wal += "-wal";
+    const auto wal_size = std::filesystem::file_size(wal, ec);
+    if (!ec && wal_size > 0 && std::filesystem::file_size(p, ec) == 0 && !ec) {
+      return "";  // the reader's own message names reindex, which folds the log in
+    }
+  }
+  return "; `mcvio bag reindex` cannot repair this file (none of its messages can be read)";
 }
 
 /// What one storage file holds, as metadata.yaml would describe it.
@@ -130,21 +186,139 @@ BagMetadata describeFile(const std::filesystem::path& p, const StorageFileReader
   return m;
 }
 
+/// Gathers StorageFileReader::verify() results into a BagVerification.
+class Collector : public VerifySink {
+ public:
+  Collector(BagVerification& v, const std::function<void(std::uint64_t)>& progress)
+      : v_(v), progress_(progress) {}
+  void readable(const std::string& topic) override {
+    ++v_.readable;
+    ++entry(topic).readable;
+    tick();
+  }
+  void unreadable(const std::string& topic, std::uint64_t count, const std::string& what) override {
+    v_.unreadable += count;
+    TopicVerification& t = entry(topic);
+    if (t.unreadable == 0) t.first_unreadable = what;
+    t.unreadable += count;
+    tick();
+  }
+  void problem(const std::string& what) override { v_.problems.push_back(what); }
+
+ private:
+  TopicVerification& entry(const std::string& topic) {
+    // Messages come in runs of one topic: skip the map lookup for those.
+    if (last_ == nullptr || topic != last_name_) {
+      last_ = &v_.topics[topic];
+      last_name_ = topic;
+    }
+    return *last_;
+  }
+  void tick() {
+    if (progress_ && (v_.readable + v_.unreadable) >= next_report_) {
+      progress_(v_.readable + v_.unreadable);
+      next_report_ = v_.readable + v_.unreadable + 20000;
+    }
+  }
+  BagVerification& v_;
+  const std::function<void(std::uint64_t)>& progress_;
+  TopicVerification* last_ = nullptr;
+  std::string last_name_;
+  std::uint64_t next_report_ = 20000;
+};
+
+/// An MCAP file that does not open strictly but starts as MCAP: reads what a recovering scan
+/// keeps (what reindex would keep) and counts the damaged stretches it skips as lost.
+void verifyRecovered(const std::filesystem::path& p, VerifySink& sink) {
+  McapReader r(p, McapReadMode::Recover);
+  for (const auto& d : r.damage()) {
+    if (d.unfinished_tail) continue;  // the open error said so already
+    const std::string what = p.string() + ": damaged stretch at byte offset " +
+                             std::to_string(d.offset) + " (" + std::to_string(d.size) +
+                             " bytes): " + d.reason +
+                             "; `mcvio bag reindex` drops it and keeps the intact records";
+    if (d.messages_lost > 0) {
+      sink.unreadable("", static_cast<std::uint64_t>(d.messages_lost), what);
+    } else {
+      sink.problem(what + (d.messages_lost < 0 ? " (messages lost: unknown)" : ""));
+    }
+  }
+  r.verify(sink);
+}
+
+/// The message compression a .db3 file's first message shows, for a file without a
+/// metadata.yaml (what reindex would record).
+Compression sqliteCompressionOfFile(const std::filesystem::path& p) {
+  try {
+    return SqliteReader(p).firstMessageCompression().value_or(Compression::None);
+  } catch (const InputError&) {
+    return Compression::None;  // the open that follows reports it
+  }
+}
+
+/// The "Verified:" line and the per-topic warnings.
+void reportVerification(const BagVerification& v, std::ostream& os,
+                        std::vector<std::string>& warn) {
+  os << std::left << std::setw(19) << "Verified:" << v.readable << " messages read intact, "
+     << v.unreadable << " unreadable";
+  if (v.missing > 0) os << ", " << v.missing << " missing";
+  if (v.files_unread > 0) os << ", " << v.files_unread << " storage file(s) not readable";
+  os << "\n";
+  for (const auto& [topic, t] : v.topics) {
+    const std::string name =
+        topic.empty() ? std::string("messages of unknown topics") : "topic " + topic;
+    if (t.unreadable > 0 && topic.empty()) {
+      warn.push_back(std::to_string(t.unreadable) +
+                     " messages of unknown topics unreadable; the first: " + t.first_unreadable);
+    } else if (t.unreadable > 0) {
+      warn.push_back(name + ": " + std::to_string(t.unreadable) + " of " +
+                     std::to_string(t.readable + t.unreadable) +
+                     " messages unreadable; the first: " + t.first_unreadable);
+    }
+    if (t.missing > 0) {
+      warn.push_back(name + ": " + std::to_string(t.missing) + " of the " +
+                     std::to_string(t.readable + t.unreadable + t.missing) +
+                     " messages metadata.yaml lists were not found (lost with a damaged, cut "
+                     "or missing part of the storage files)");
+    }
+  }
+  for (const auto& p : v.problems) warn.push_back(p);
+}
+
 }  // namespace
 
 std::string bagInfo(const std::filesystem::path& bag, std::vector<std::string>* warnings) {
+  return bagInfo(bag, warnings, BagInfoOptions{});
+}
+
+std::string bagInfo(const std::filesystem::path& bag, std::vector<std::string>* warnings,
+                    const BagInfoOptions& options, BagVerification* verification) {
   std::vector<std::string> ignored;
   auto& warn = warnings ? *warnings : ignored;
+  BagVerification local_verification;
+  BagVerification& verified = verification ? *verification : local_verification;
+  verified = BagVerification{};
+  Collector collector(verified, options.progress);
   if (std::filesystem::is_regular_file(bag)) {
     if (bag.extension() != ".mcap" && bag.extension() != ".db3") {
       throw InputError(bag.string() + ": unknown storage (expected a bag directory, .mcap or .db3)");
     }
-    const auto r = openStorageFile(bag, storageOfExtension(bag));
+    const std::string storage = storageOfExtension(bag);
+    const auto r = openStorageFile(
+        bag, storage, storage == "sqlite3" ? sqliteCompressionOfFile(bag) : Compression::None);
     for (const auto& w : r->warnings()) warn.push_back(w);
-    return formatBagInfo(describeFile(bag, *r), std::filesystem::file_size(bag));
+    std::string text = formatBagInfo(describeFile(bag, *r), std::filesystem::file_size(bag));
+    if (options.verify) {
+      r->verify(collector);
+      std::ostringstream os;
+      reportVerification(verified, os, warn);
+      text += os.str();
+    }
+    return text;
   }
   const BagMetadata m = readBagMetadata(bag);
   const std::string md = (bag / kMetadataFileName).string();
+  const std::string reindex = "`mcvio bag reindex " + bag.string() + "`";
   if (m.version > 9) warn.push_back(md + ": version " + std::to_string(m.version) + " is newer than the known 5..9");
   if (m.duration < 0) warn.push_back(md + ": negative duration " + std::to_string(m.duration) + " ns");
   for (const auto& t : m.topics_with_message_count) {
@@ -169,22 +343,47 @@ std::string bagInfo(const std::filesystem::path& bag, std::vector<std::string>* 
   std::map<std::string, std::uint64_t> stored_counts;
   std::map<std::string, std::string> stored_types;
   bool all_read = true;
+  bool metadata_disagrees = false;
   for (const auto& rel : m.relative_file_paths) {
     const auto p = bag / rel;
     std::error_code ec;
     const auto s = std::filesystem::file_size(p, ec);
     if (ec) {
-      warn.push_back(p.string() + (std::filesystem::exists(p)
-                                       ? ": listed in metadata.yaml but unreadable (" +
-                                             ec.message() + ")"
-                                       : ": listed in metadata.yaml but missing"));
+      warn.push_back(p.string() +
+                     (std::filesystem::exists(p)
+                          ? ": listed in metadata.yaml but unreadable (" + ec.message() + ")"
+                          : ": listed in metadata.yaml but missing (" + reindex +
+                                " rewrites metadata.yaml without it; its messages "
+                                "stay lost)"));
       all_read = false;
+      ++verified.files_unread;
       continue;
     }
     size += s;
+    std::unique_ptr<StorageFileReader> r;
     try {
-      const auto r = openStorageFile(p, m.storage_identifier, compression);
-      for (const auto& w : r->warnings()) warn.push_back(w);
+      r = openStorageFile(p, m.storage_identifier, compression);
+    } catch (const std::exception& e) {
+      bool mcap_recoverable = false;
+      warn.push_back(e.what() +
+                     openFailureHint(p, m.storage_identifier, reindex, mcap_recoverable));
+      all_read = false;
+      bool recovered = false;
+      if (options.verify && mcap_recoverable) {
+        try {
+          verifyRecovered(p, collector);
+          recovered = true;
+        } catch (const std::exception&) {
+          // Nothing readable: counted as unread below.
+        }
+      }
+      if (!recovered) ++verified.files_unread;
+      continue;
+    }
+    for (const auto& w : r->warnings()) warn.push_back(w);
+    // Which compression the messages show when metadata.yaml names another (reindex records it).
+    std::optional<Compression> shown;
+    try {
       const FileStatistics st = r->statistics();
       stored_messages += st.message_count;
       for (const auto& [t, n] : st.topic_message_counts) stored_counts[t] += n;
@@ -193,16 +392,45 @@ std::string bagInfo(const std::filesystem::path& bag, std::vector<std::string>* 
         if (f.path == rel && f.message_count != st.message_count) {
           warn.push_back(md + ": files entry " + rel + " has " + std::to_string(f.message_count) +
                          " messages but the file holds " + std::to_string(st.message_count));
+          metadata_disagrees = true;
         }
       }
       if (m.storage_identifier == "sqlite3") {
-        // The first message shows whether the message compression and payloads are readable.
-        BagMessage first;
-        r->next(first);
+        // The first message shows whether the message compression is readable (every message:
+        // --verify).
+        auto& sr = static_cast<SqliteReader&>(*r);
+        const auto first_compression = sr.firstMessageCompression();
+        if (first_compression && *first_compression != compression) shown = first_compression;
+        try {
+          BagMessage first;
+          sr.next(first);
+        } catch (const InputError& e) {
+          warn.push_back(e.what() +
+                         (shown
+                              ? "; metadata.yaml's message compression is not the messages' (" +
+                                    toString(*shown) + "): " + reindex +
+                                    " rewrites metadata.yaml from the messages"
+                              : std::string("; the stored message itself is damaged and `mcvio bag "
+                                            "reindex` cannot recover it")));
+          all_read = false;
+        }
       }
-    } catch (const std::exception& e) {
-      warn.push_back(std::string(e.what()) + " (see `mcvio bag reindex " + bag.string() + "`)");
+    } catch (const InputError& e) {
+      // Rows reindex would have to read the same way (unknown topic ids, timestamps or data
+      // that are no INTEGER / BLOB) or damaged pages.
+      warn.push_back(e.what() + std::string("; `mcvio bag reindex` cannot repair this"));
       all_read = false;
+    }
+    if (options.verify) {
+      if (m.storage_identifier == "sqlite3" && shown && *shown != Compression::None) {
+        // Check the payloads as the frames they are (metadata.yaml's error is reported above).
+        collector.problem(p.string() + ": messages checked as the " + toString(*shown) +
+                          " frames they are; readers go by metadata.yaml until " + reindex +
+                          " rewrites it");
+        static_cast<SqliteReader&>(*r).verify(collector, *shown);
+      } else {
+        r->verify(collector);
+      }
     }
   }
   for (const auto& t : m.topics_with_message_count) {
@@ -210,12 +438,14 @@ std::string bagInfo(const std::filesystem::path& bag, std::vector<std::string>* 
     if (it != stored_types.end() && !it->second.empty() && it->second != t.topic.type) {
       warn.push_back(md + ": topic " + t.topic.name + " has type " + t.topic.type +
                      " but the storage's schema is " + it->second);
+      metadata_disagrees = true;
     }
     if (all_read && (stored_counts.count(t.topic.name) ? stored_counts[t.topic.name] : 0) !=
                         t.message_count) {
       warn.push_back(md + ": topic " + t.topic.name + " has " + std::to_string(t.message_count) +
                      " messages but the storage files hold " +
                      std::to_string(stored_counts[t.topic.name]));
+      metadata_disagrees = true;
     }
   }
   for (const auto& [name, type] : stored_types) {
@@ -225,13 +455,42 @@ std::string bagInfo(const std::filesystem::path& bag, std::vector<std::string>* 
       warn.push_back(md + ": topic " + name + " (" + type + ", " +
                      std::to_string(stored_counts[name]) +
                      " messages) is in the storage files but not in metadata.yaml");
+      metadata_disagrees = true;
     }
   }
   if (all_read && stored_messages != m.message_count) {
     warn.push_back(md + ": message_count is " + std::to_string(m.message_count) +
                    " but the storage files hold " + std::to_string(stored_messages));
+    metadata_disagrees = true;
   }
-  return formatBagInfo(m, size);
+  if (options.verify && !all_read) {
+    // A file that did not open strictly holds fewer messages than metadata.yaml lists: those
+    // are lost whatever reindex does. Damaged stretches whose topics are unknown were counted
+    // as unreadable already: not again in the total.
+    std::uint64_t missing = 0;
+    for (const auto& t : m.topics_with_message_count) {
+      TopicVerification& v = verified.topics[t.topic.name];
+      const std::uint64_t held = v.readable + v.unreadable;
+      if (held < t.message_count) {
+        v.missing = t.message_count - held;
+        missing += v.missing;
+      }
+    }
+    const auto unknown = verified.topics.find("");
+    const std::uint64_t unattributed =
+        unknown == verified.topics.end() ? 0 : unknown->second.unreadable;
+    verified.missing = missing > unattributed ? missing - unattributed : 0;
+  }
+  if (metadata_disagrees) {
+    warn.push_back(md + ": " + reindex + " rewrites it from what the storage files hold");
+  }
+  std::string text = formatBagInfo(m, size);
+  if (options.verify) {
+    std::ostringstream os;
+    reportVerification(verified, os, warn);
+    text += os.str();
+  }
+  return text;
 }
 
 }  // namespace mcvio::bag

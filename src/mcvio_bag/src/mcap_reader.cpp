@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstring>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "byte_io.hpp"
@@ -31,6 +32,48 @@ std::uint64_t readU64(const std::uint8_t* p) {
 
 /// Largest chunk we agree to decompress; protects against forged sizes.
 constexpr std::uint64_t kMaxChunkSize = 4ull << 30;
+
+/// Why the first `size` bytes of a file are no MCAP start (the magic, then a Header record
+/// that parses); `at` is where. Empty when they are one.
+std::string headerProblem(const std::uint8_t* data, std::uint64_t size, std::uint64_t& at) {
+  at = 0;
+  if (size < sizeof(mcap::kMagic) || std::memcmp(data, mcap::kMagic, sizeof(mcap::kMagic)) != 0) {
+    return "not an MCAP file (wrong magic)";
+  }
+  at = 8;
+  if (size < 8 + mcap::kRecordPrefix || data[8] != mcap::kHeader) return "missing Header record";
+  const std::uint64_t len = readU64(data + 9);
+  if (len > size - 17) return "truncated Header record";
+  try {
+    ByteReader r(data + 17, len);
+    r.str("profile");
+    r.str("library");
+  } catch (const ShortRead& e) {
+    at = 17 + e.offset;
+    return std::string("malformed Header record: ") + e.what();
+  }
+  return {};
+}
+
+/// `tail`: the last kFooterAndMagic bytes of a file of `size` bytes. True when they are a
+/// Footer record and the trailing magic.
+bool endsWithFooter(const std::uint8_t* tail, std::uint64_t size) {
+  return size >= 8 + mcap::kRecordPrefix + mcap::kFooterAndMagic &&
+         std::memcmp(tail + mcap::kFooterAndMagic - 8, mcap::kMagic, 8) == 0 &&
+         tail[0] == mcap::kFooter && readU64(tail + 1) == 20;
+}
+
+/// Reads `n` bytes at `offset`; false when the file has fewer.
+bool readAt(int fd, std::uint64_t offset, std::uint8_t* out, std::uint64_t n) {
+  while (n > 0) {
+    const ssize_t got = ::pread(fd, out, n, static_cast<off_t>(offset));
+    if (got <= 0) return false;
+    out += got;
+    offset += static_cast<std::uint64_t>(got);
+    n -= static_cast<std::uint64_t>(got);
+  }
+  return true;
+}
 
 }  // namespace
 
@@ -81,28 +124,10 @@ void McapReader::fail(std::uint64_t offset, const std::string& what) const {
 }
 
 void McapReader::load(McapReadMode mode) {
-  if (size_ < sizeof(mcap::kMagic) || std::memcmp(data_, mcap::kMagic, sizeof(mcap::kMagic)) != 0) {
-    fail(0, "not an MCAP file (wrong magic)");
-  }
-  // The Header must be the first record.
-  if (size_ < 8 + mcap::kRecordPrefix || data_[8] != mcap::kHeader) {
-    fail(8, "missing Header record");
-  }
-  {
-    const std::uint64_t len = readU64(data_ + 9);
-    if (len > size_ - 17) fail(8, "truncated Header record");
-    try {
-      ByteReader r(data_ + 17, len);
-      r.str("profile");
-      r.str("library");
-    } catch (const ShortRead& e) {
-      fail(17 + e.offset, std::string("malformed Header record: ") + e.what());
-    }
-  }
-  const bool has_footer = size_ >= 8 + mcap::kRecordPrefix + mcap::kFooterAndMagic &&
-                          std::memcmp(data_ + size_ - 8, mcap::kMagic, 8) == 0 &&
-                          data_[size_ - mcap::kFooterAndMagic] == mcap::kFooter &&
-                          readU64(data_ + size_ - mcap::kFooterAndMagic + 1) == 20;
+  std::uint64_t at = 0;
+  if (const std::string why = headerProblem(data_, size_, at); !why.empty()) fail(at, why);
+  const bool has_footer = size_ >= mcap::kFooterAndMagic &&
+                          endsWithFooter(data_ + size_ - mcap::kFooterAndMagic, size_);
   if (mode == McapReadMode::Recover) {
     if (has_footer) preloadSummaryDefinitions();
     linearScan(mode, size_);
@@ -739,15 +764,10 @@ bool McapReader::next(BagMessage& out) {
       rec = chunk_cache_.data() + e.offset;
       avail = chunk_cache_.size() - e.offset;
     }
-    if (avail < mcap::kRecordPrefix + 22 || rec[0] != mcap::kMessage) {
-      fail(report_at, "Message Index points to something that is not a Message record");
-    }
+    if (const char* why = messageRecordProblem(rec, avail, e.channel)) fail(report_at, why);
     const std::uint64_t len = readU64(rec + 1);
-    if (len < 22 || len > avail - mcap::kRecordPrefix) fail(report_at, "truncated Message record");
     const std::uint8_t* b = rec + mcap::kRecordPrefix;
-    std::uint16_t ch;
-    std::memcpy(&ch, b, 2);
-    if (ch != e.channel) fail(report_at, "Message Index channel differs from its Message record");
+    const std::uint16_t ch = e.channel;
     std::memcpy(&out.sequence, b + 2, 4);
     out.log_time = static_cast<Timestamp>(readU64(b + 6));
     out.publish_time = static_cast<Timestamp>(readU64(b + 14));
@@ -778,6 +798,159 @@ FileStatistics McapReader::statistics() const {
 std::uint64_t McapReader::unchunkedMessages() const {
   return static_cast<std::uint64_t>(std::count_if(
       entries_.begin(), entries_.end(), [](const Entry& e) { return e.chunk == kNoChunk; }));
+}
+
+const char* McapReader::messageRecordProblem(const std::uint8_t* rec, std::uint64_t avail,
+                                             std::uint16_t channel) {
+  if (avail < mcap::kRecordPrefix + 22 || rec[0] != mcap::kMessage) {
+    return "Message Index points to something that is not a Message record";
+  }
+  const std::uint64_t len = readU64(rec + 1);
+  if (len < 22 || len > avail - mcap::kRecordPrefix) return "truncated Message record";
+  std::uint16_t ch;
+  std::memcpy(&ch, rec + mcap::kRecordPrefix, 2);
+  if (ch != channel) return "Message Index channel differs from its Message record";
+  return nullptr;
+}
+
+McapLayout McapReader::layoutOf(const std::filesystem::path& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return McapLayout::NotMcap;
+  McapLayout layout = McapLayout::NotMcap;
+  struct stat st {};
+  if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode)) {
+    const auto size = static_cast<std::uint64_t>(st.st_size);
+    // The magic and the Header record, whose length the file gives.
+    std::vector<std::uint8_t> head(std::min<std::uint64_t>(size, 17));
+    std::uint64_t at = 0;
+    if (head.size() == 17 && readAt(fd, 0, head.data(), 17)) {
+      const std::uint64_t len = readU64(head.data() + 9);
+      if (len <= size - 17 && len <= kMaxChunkSize) {
+        head.resize(17 + len);
+        if (!readAt(fd, 17, head.data() + 17, len)) head.clear();
+      }
+    }
+    std::uint8_t tail[mcap::kFooterAndMagic];
+    if (headerProblem(head.data(), head.size(), at).empty()) {
+      layout = size >= mcap::kFooterAndMagic &&
+                       readAt(fd, size - mcap::kFooterAndMagic, tail, mcap::kFooterAndMagic) &&
+                       endsWithFooter(tail, size)
+                   ? McapLayout::Finished
+                   : McapLayout::Unfinished;
+    }
+  }
+  ::close(fd);
+  return layout;
+}
+
+void McapReader::verify(VerifySink& sink) {
+  const auto topicOf = [this](std::uint16_t ch) -> const std::string& {
+    return topics_[static_cast<std::size_t>(channel_topic_[ch])].name;
+  };
+  bool damaged = false;
+  std::vector<std::uint8_t> records;
+  for (std::uint32_t no = 0; no < chunks_.size(); ++no) {
+    const mcap::ChunkInfo& c = chunks_[no];
+    try {
+      decompressChunk(no, records);
+    } catch (const InputError& e) {
+      // Its Message Index records (kept outside the chunk) still say what it held.
+      damaged = true;
+      for (const auto& [ch, entries] : c.message_index) {
+        if (entries.empty()) continue;
+        std::uint64_t first = entries.front().first;
+        for (const auto& entry : entries) first = std::min(first, entry.first);
+        std::ostringstream os;
+        os << e.what() << ": " << entries.size() << " messages of " << topicOf(ch)
+           << " in it are lost, the first at log time " << first
+           << " ns; `mcvio bag reindex` drops the damaged chunk and keeps the others";
+        sink.unreadable(topicOf(ch), entries.size(), os.str());
+      }
+      continue;
+    }
+    std::set<std::uint64_t> listed;
+    std::uint64_t wrong_times = 0;
+    for (const auto& [ch, entries] : c.message_index) {
+      for (const auto& [t, off] : entries) {
+        listed.insert(off);
+        const char* why = off >= records.size() ? "message offset outside its Chunk"
+                                                : messageRecordProblem(records.data() + off,
+                                                                       records.size() - off, ch);
+        if (why == nullptr) {
+          // Readers order messages by the index's time: it must be the record's.
+          if (readU64(records.data() + off + mcap::kRecordPrefix + 6) != t) ++wrong_times;
+          sink.readable(topicOf(ch));
+          continue;
+        }
+        damaged = true;
+        std::ostringstream os;
+        os << name_ << ": message at log time " << t << " ns on " << topicOf(ch)
+           << " (Chunk at byte offset " << c.start_offset << ", uncompressed offset " << off
+           << "): " << why << "; `mcvio bag reindex` rebuilds the indexes from the chunk";
+        sink.unreadable(topicOf(ch), 1, os.str());
+      }
+    }
+    // Message records no index lists: readers going by the indexes never return them.
+    std::uint64_t unlisted = 0;
+    for (std::uint64_t p = 0; p < records.size();) {
+      const std::uint64_t left = records.size() - p;
+      if (left < mcap::kRecordPrefix ||
+          readU64(records.data() + p + 1) > left - mcap::kRecordPrefix) {
+        damaged = true;
+        sink.problem(name_ + ": record at uncompressed offset " + std::to_string(p) +
+                     " runs past its Chunk at byte offset " + std::to_string(c.start_offset));
+        break;
+      }
+      if (records[p] == mcap::kMessage && listed.count(p) == 0) ++unlisted;
+      p += mcap::kRecordPrefix + readU64(records.data() + p + 1);
+    }
+    if (wrong_times > 0) {
+      damaged = true;
+      sink.problem(name_ + ": Chunk at byte offset " + std::to_string(c.start_offset) + ": " +
+                   std::to_string(wrong_times) +
+                   " Message Index entries give another log time than their Message record "
+                   "(readers return them out of order); `mcvio bag reindex` rebuilds the indexes "
+                   "from the chunk");
+    }
+    if (unlisted > 0) {
+      damaged = true;
+      sink.problem(name_ + ": Chunk at byte offset " + std::to_string(c.start_offset) + " holds " +
+                   std::to_string(unlisted) +
+                   " Message records its Message Index does not list (readers skip them); "
+                   "`mcvio bag reindex` rebuilds the indexes from the chunk");
+    }
+  }
+  for (const auto& e : entries_) {
+    if (e.chunk != kNoChunk) continue;
+    if (const char* why = messageRecordProblem(data_ + e.offset, size_ - e.offset, e.channel)) {
+      damaged = true;
+      sink.unreadable(topicOf(e.channel), 1,
+                      name_ + ": message at log time " + std::to_string(e.log_time) + " ns on " +
+                          topicOf(e.channel) + " at byte offset " + std::to_string(e.offset) +
+                          ": " + why);
+    } else {
+      sink.readable(topicOf(e.channel));
+    }
+  }
+  if (used_summary_ && !damaged) {
+    // A summary-based load never read the data section as a whole: its Data End CRC covers
+    // the bytes between the chunks' records too (Schema, Channel, Message Index, Metadata).
+    const Footer f = footer();
+    const std::uint64_t data_end_size = mcap::kRecordPrefix + 4;
+    if (f.summary_start >= 8 + data_end_size) {
+      const std::uint64_t at = f.summary_start - data_end_size;
+      std::uint32_t crc = 0;
+      if (data_[at] == mcap::kDataEnd && readU64(data_ + at + 1) == 4) {
+        std::memcpy(&crc, data_ + at + mcap::kRecordPrefix, 4);
+      }
+      if (crc != 0 && Crc32::update(0, data_, at) != crc) {
+        sink.problem(name_ + ": bad data section CRC (Data End at byte offset " +
+                     std::to_string(at) +
+                     "): bytes outside the chunks' records are damaged; every message was "
+                     "read intact");
+      }
+    }
+  }
 }
 
 }  // namespace mcvio::bag

@@ -388,60 +388,126 @@ bool SqliteReader::next(BagMessage& out) {
     const int rc = sqlite3_step(cursor_);
     if (rc == SQLITE_DONE) return false;
     if (rc != SQLITE_ROW) fail(std::string("reading messages: ") + sqlite3_errmsg(db_));
-    // Error texts are built only on failure: this runs once per message.
-    const auto row = [this] {
-      return "messages row id " + std::to_string(sqlite3_column_int64(cursor_, 0));
-    };
-    // Checked before the topic filter: a row of no known topic may be a lost message of the
-    // selected ones, so it is never skipped silently.
-    const int id_type = sqlite3_column_type(cursor_, 1);
-    if (id_type != SQLITE_INTEGER) {
-      fail(row() + ": topic_id is " + typeName(id_type) + ", not a topic id");
-    }
-    const long long id = sqlite3_column_int64(cursor_, 1);
-    const auto topic = topic_index_.find(id);
-    if (topic == topic_index_.end()) {
-      fail(row() + " refers to unknown topic id " + std::to_string(id));
-    }
-    if (filtered_ && selected_.count(id) == 0) continue;
-    out.topic = topics_[topic->second].name;
-    const auto what = [&] { return row() + " on " + out.topic; };
-    const int time_type = sqlite3_column_type(cursor_, 2);
-    if (time_type != SQLITE_INTEGER) {
-      fail(what() + ": timestamp is " + typeName(time_type) +
-           " (expected INTEGER nanoseconds since the epoch)");
-    }
-    out.log_time = sqlite3_column_int64(cursor_, 2);
-    if (out.log_time < 0) {
-      fail(what() + ": negative timestamp " + std::to_string(out.log_time) + " ns");
-    }
-    out.publish_time = out.log_time;
-    out.sequence = 0;
-    const int data_type = sqlite3_column_type(cursor_, 3);
-    if (data_type != SQLITE_BLOB) {
-      fail(what() + " at " + std::to_string(out.log_time) + " ns: data is " + typeName(data_type) +
-           ", not a BLOB");
-    }
-    const auto* blob = static_cast<const std::uint8_t*>(sqlite3_column_blob(cursor_, 3));
-    const auto n = static_cast<std::size_t>(sqlite3_column_bytes(cursor_, 3));
-    if (compression_ == Compression::None) {
-      // A compressed payload under a metadata.yaml that says none would reach the decoder as
-      // nonsense: name the likely cause instead.
-      if (const Compression framed = frameMagic(blob, n); framed != Compression::None) {
-        fail(what() + " at " + std::to_string(out.log_time) + " ns: data is a " + toString(framed) +
-             " frame but metadata.yaml gives no message compression");
-      }
-      out.data.assign(blob, blob + n);
-    } else {
-      try {
-        Codec::decompressFrame(compression_, blob, n, kMaxMessageSize, out.data);
-      } catch (const std::exception& e) {
-        fail("message at " + std::to_string(out.log_time) + " ns on " + out.topic + " (" + row() +
-             ") does not decompress: " + e.what());
-      }
-    }
-    return true;
+    if (readRow(cursor_, compression_, /*filter=*/true, out)) return true;
   }
+}
+
+bool SqliteReader::readRow(sqlite3_stmt* st, Compression compression, bool filter,
+                           BagMessage& out) {
+  // Error texts are built only on failure: this runs once per message.
+  const auto row = [st] {
+    return "messages row id " + std::to_string(sqlite3_column_int64(st, 0));
+  };
+  // Checked before the topic filter: a row of no known topic may be a lost message of the
+  // selected ones, so it is never skipped silently.
+  const int id_type = sqlite3_column_type(st, 1);
+  if (id_type != SQLITE_INTEGER) {
+    fail(row() + ": topic_id is " + typeName(id_type) + ", not a topic id");
+  }
+  const long long id = sqlite3_column_int64(st, 1);
+  const auto topic = topic_index_.find(id);
+  if (topic == topic_index_.end()) {
+    fail(row() + " refers to unknown topic id " + std::to_string(id));
+  }
+  if (filter && filtered_ && selected_.count(id) == 0) return false;
+  out.topic = topics_[topic->second].name;
+  const auto what = [&] { return row() + " on " + out.topic; };
+  const int time_type = sqlite3_column_type(st, 2);
+  if (time_type != SQLITE_INTEGER) {
+    fail(what() + ": timestamp is " + typeName(time_type) +
+         " (expected INTEGER nanoseconds since the epoch)");
+  }
+  out.log_time = sqlite3_column_int64(st, 2);
+  if (out.log_time < 0) {
+    fail(what() + ": negative timestamp " + std::to_string(out.log_time) + " ns");
+  }
+  out.publish_time = out.log_time;
+  out.sequence = 0;
+  const int data_type = sqlite3_column_type(st, 3);
+  if (data_type != SQLITE_BLOB) {
+    fail(what() + " at " + std::to_string(out.log_time) + " ns: data is " + typeName(data_type) +
+         ", not a BLOB");
+  }
+  const auto* blob = static_cast<const std::uint8_t*>(sqlite3_column_blob(st, 3));
+  const auto n = static_cast<std::size_t>(sqlite3_column_bytes(st, 3));
+  if (compression == Compression::None) {
+    // A compressed payload under a metadata.yaml that says none would reach the decoder as
+    // nonsense: name the likely cause instead.
+    if (const Compression framed = frameMagic(blob, n); framed != Compression::None) {
+      fail(what() + " at " + std::to_string(out.log_time) + " ns: data is a " + toString(framed) +
+           " frame but metadata.yaml gives no message compression");
+    }
+    out.data.assign(blob, blob + n);
+  } else {
+    try {
+      Codec::decompressFrame(compression, blob, n, kMaxMessageSize, out.data);
+    } catch (const std::exception& e) {
+      fail("message at " + std::to_string(out.log_time) + " ns on " + out.topic + " (" + row() +
+           ") does not decompress: " + e.what());
+    }
+  }
+  return true;
+}
+
+void SqliteReader::verify(VerifySink& sink) { verify(sink, compression_); }
+
+void SqliteReader::verify(VerifySink& sink, Compression compression) {
+  // Row id order: the table's own order, read front to back without the timestamp index.
+  sqlite3_stmt* st = nullptr;
+  if (sqlite3_prepare_v2(db_,
+                         "SELECT rowid, topic_id, timestamp, data FROM messages ORDER BY rowid;",
+                         -1, &st, nullptr) != SQLITE_OK) {
+    sink.problem(name_ + ": sqlite3: cannot read the messages table: " + sqlite3_errmsg(db_) +
+                 "; `mcvio bag reindex` cannot repair an sqlite3 file");
+    return;
+  }
+  const char* const kNoRepair =
+      "; `mcvio bag reindex` cannot recover it (the stored row itself is damaged)";
+  BagMessage m;
+  long long last_row = 0;
+  int rc;
+  while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+    last_row = sqlite3_column_int64(st, 0);
+    try {
+      readRow(st, compression, /*filter=*/false, m);
+      sink.readable(m.topic);
+    } catch (const InputError& e) {
+      std::string topic;
+      if (sqlite3_column_type(st, 1) == SQLITE_INTEGER) {
+        const auto it = topic_index_.find(sqlite3_column_int64(st, 1));
+        if (it != topic_index_.end()) topic = topics_[it->second].name;
+      }
+      sink.unreadable(topic, 1, e.what() + std::string(kNoRepair));
+    }
+  }
+  const std::string why = rc == SQLITE_DONE ? "" : sqlite3_errmsg(db_);
+  sqlite3_finalize(st);
+  if (rc == SQLITE_DONE) return;
+  // Damaged pages end the scan: count what lies beyond, if sqlite still can.
+  const std::string after = "after messages row id " + std::to_string(last_row);
+  const std::string lost = name_ + ": sqlite3: reading messages " + after + " failed (" + why +
+                           "); `mcvio bag reindex` cannot repair damage inside an sqlite3 file "
+                           "(the sqlite3 shell's .recover salvages what is left)";
+  std::map<std::string, std::uint64_t> rest;
+  bool counted = sqlite3_prepare_v2(db_,
+                                    "SELECT topic_id, COUNT(*) FROM messages WHERE rowid > ?1 "
+                                    "GROUP BY topic_id;",
+                                    -1, &st, nullptr) == SQLITE_OK;
+  if (counted) {
+    sqlite3_bind_int64(st, 1, last_row);
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+      const auto it = topic_index_.find(sqlite3_column_int64(st, 0));
+      rest[it == topic_index_.end() ? std::string() : topics_[it->second].name] +=
+          static_cast<std::uint64_t>(sqlite3_column_int64(st, 1));
+    }
+    counted = rc == SQLITE_DONE;
+    sqlite3_finalize(st);
+  }
+  if (!counted || rest.empty()) {
+    sink.problem(lost + "; how many messages lie beyond is unknown");
+    return;
+  }
+  for (const auto& [topic, n] : rest) sink.unreadable(topic, n, lost);
 }
 
 FileStatistics SqliteReader::statistics() const {

@@ -120,4 +120,22 @@ std::vector<BagMessage> readAll(const std::filesystem::path& bag) {
   return out;
 }
 
+BagVerification verifyBag(const std::filesystem::path& bag, std::vector<std::string>* warnings) {
+  BagInfoOptions o;
+  o.verify = true;
+  BagVerification v;
+  bagInfo(bag, warnings, o, &v);
+  return v;
+}
+
+std::vector<std::string> reindexAdvice(const std::vector<std::string>& warnings) {
+  std::vector<std::string> out;
+  for (const auto& w : warnings) {
+    if (w.find("mcvio bag reindex") != std::string::npos && w.find("cannot") == std::string::npos) {
+      out.push_back(w);
+    }
+  }
+  return out;
+}
+
 }  // namespace mcvio::bag::test

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "mcvio/bag/bag_info.hpp"
 #include "mcvio/bag/bag_message.hpp"
 #include "mcvio/bag/topic_info.hpp"
 
@@ -22,5 +23,11 @@ std::filesystem::path freshPath(const std::string& name);
 std::vector<std::uint8_t> payload(std::uint64_t i, std::size_t size);
 /// Reads every message of a bag.
 std::vector<BagMessage> readAll(const std::filesystem::path& bag);
+/// `bag info --verify`: bagInfo() reading every message; its warnings go to `warnings`.
+BagVerification verifyBag(const std::filesystem::path& bag,
+                          std::vector<std::string>* warnings = nullptr);
+/// The warning lines that send the user to `mcvio bag reindex` (not those saying it cannot
+/// help).
+std::vector<std::string> reindexAdvice(const std::vector<std::string>& warnings);
 
 }  // namespace mcvio::bag::test

@@ -681,3 +681,75 @@ TEST(SqliteBadInput, ReindexReportsADamagedFileAndLostFiles) {
 
 }  // namespace
 }  // namespace mcvio::bag
+
+namespace mcvio::bag {
+namespace {
+
+/// `bag info` decompresses only the first message of an sqlite3 file: a damaged payload further
+/// on passed it, and play or run failed later. `bag info --verify` reads every row: it counts
+/// the damaged one under its topic and names its row id, says reindex cannot recover it, and
+/// leaves the file as it was.
+TEST(SqliteBadInput, VerifyFindsADamagedMessageInTheMiddle) {
+  for (const Compression c : {Compression::Zstd, Compression::Lz4}) {
+    SCOPED_TRACE(toString(c));
+    const auto dir = smallBag("sqlite_verify_" + toString(c), "sqlite3", c);
+    const auto f = sqliteFile(dir);
+    std::vector<std::string> w;
+    BagInfoOptions verify;
+    verify.verify = true;
+    const std::string text = bagInfo(dir, &w, verify);
+    EXPECT_TRUE(w.empty()) << joined(w);
+    EXPECT_NE(text.find("Verified:          40 messages read intact, 0 unreadable"),
+              std::string::npos)
+        << text;
+    // Row 20 of 40 loses the second half of its compressed frame.
+    sqlExec(f, "UPDATE messages SET data=substr(data, 1, length(data) / 2) WHERE id=20;");
+    const auto before = slurp(f);
+    w.clear();
+    const BagVerification v = test::verifyBag(dir, &w);
+    EXPECT_EQ(v.readable, 39u);
+    EXPECT_EQ(v.unreadable, 1u);
+    EXPECT_FALSE(v.clean());
+    ASSERT_EQ(v.topics.count("/a"), 1u);
+    const TopicVerification& a = v.topics.at("/a");
+    EXPECT_EQ(a.unreadable, 1u);
+    EXPECT_NE(a.first_unreadable.find("messages row id 20"), std::string::npos)
+        << a.first_unreadable;
+    EXPECT_NE(a.first_unreadable.find("does not decompress"), std::string::npos)
+        << a.first_unreadable;
+    EXPECT_TRUE(anyHas(w, {"topic /a", "1 of 40 messages unreadable", f.string(), "row id 20"}))
+        << joined(w);
+    EXPECT_TRUE(test::reindexAdvice(w).empty()) << joined(w);
+    EXPECT_EQ(slurp(f), before) << "verify changed the file";
+  }
+}
+
+/// bag info used to add "see `mcvio bag reindex`" to every storage file problem. A damaged
+/// payload is not something reindex repairs (it keeps the rows as they are); metadata.yaml
+/// naming the wrong message compression is (reindex takes it from the messages).
+TEST(SqliteBadInput, InfoNamesReindexOnlyWhenItRepairsTheProblem) {
+  const auto dir = smallBag("sqlite_hint", "sqlite3", Compression::Zstd);
+  const auto f = sqliteFile(dir);
+  sqlExec(f, "UPDATE messages SET data=substr(data, 1, 6) WHERE id=1;");  // the first message
+  std::vector<std::string> w;
+  bagInfo(dir, &w);
+  EXPECT_TRUE(anyHas(w, {f.string(), "messages row id 1", "cannot recover"})) << joined(w);
+  EXPECT_TRUE(test::reindexAdvice(w).empty()) << joined(w);
+  BagReindexer::reindex(dir);  // indeed: the row stays unreadable
+  expectInputError([&] { test::readAll(dir); }, {"messages row id 1", "does not decompress"});
+
+  const auto wrong = smallBag("sqlite_hint_compression", "sqlite3", Compression::Zstd);
+  BagMetadata m = readBagMetadata(wrong);
+  m.compression_format = "lz4";
+  writeBagMetadata(wrong, m);
+  w.clear();
+  bagInfo(wrong, &w);
+  EXPECT_TRUE(anyHas(test::reindexAdvice(w), {"mcvio bag reindex " + wrong.string(), "zstd"}))
+      << joined(w);
+  BagReindexer::reindex(wrong);
+  w.clear();
+  EXPECT_TRUE(test::verifyBag(wrong, &w).clean()) << joined(w);
+}
+
+}  // namespace
+}  // namespace mcvio::bag

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <set>
 
 #include "bag_test_util.hpp"
@@ -485,6 +486,89 @@ TEST(Recovery, ReindexRebuildsALostMetadataFile) {
   EXPECT_EQ(after.starting_time, before.starting_time);
   EXPECT_EQ(after.duration, before.duration);
   expectPrefix(test::readAll(dir), 200);
+}
+
+}  // namespace
+}  // namespace mcvio::bag
+
+namespace mcvio::bag {
+namespace {
+
+/// Plain `bag info` reads an MCAP file's summary, not its chunks. `bag info --verify`
+/// decompresses every chunk and checks its CRC: a damaged chunk behind an intact summary counts
+/// its messages per topic as unreadable, named by the chunk's byte offset and the first log
+/// time, with what reindex does about it; the file is left as it was.
+TEST(Recovery, VerifyFindsADamagedChunkBehindAnIntactSummary) {
+  for (Compression c : {Compression::None, Compression::Zstd, Compression::Lz4}) {
+    SCOPED_TRACE(toString(c));
+    const auto dir = test::freshPath("verify_chunk_" + toString(c));
+    const auto file = writeChunkedBag(dir, c);
+    std::vector<std::string> w;
+    BagVerification v = test::verifyBag(dir, &w);
+    EXPECT_TRUE(v.clean()) << joined(w);
+    EXPECT_EQ(v.readable, 120u);
+    EXPECT_EQ(v.topics["/a"].readable, 60u);
+    const auto chunks = McapReader(file).chunks();
+    ASSERT_GT(chunks.size(), 8u);
+    const auto& bad = chunks[chunks.size() / 2];
+    flipByte(file, bad.records_offset + bad.compressed_size / 2);
+    const auto before = fileBytes(file);
+    std::map<std::string, std::set<int>> lost;  // writeMessage: odd i on /a, even on /b
+    for (const int i : messagesOf(bad)) lost[i % 2 ? "/a" : "/b"].insert(i);
+    ASSERT_EQ(lost.size(), 2u);
+    w.clear();
+    v = test::verifyBag(dir, &w);
+    EXPECT_EQ(v.unreadable, messagesOf(bad).size());
+    EXPECT_EQ(v.readable, 120u - messagesOf(bad).size());
+    for (const auto& [topic, numbers] : lost) {
+      const TopicVerification& t = v.topics[topic];
+      EXPECT_EQ(t.unreadable, numbers.size()) << topic;
+      EXPECT_EQ(t.readable, 60u - numbers.size()) << topic;
+      EXPECT_NE(t.first_unreadable.find("byte offset " + std::to_string(bad.start_offset)),
+                std::string::npos)
+          << t.first_unreadable;
+      EXPECT_NE(
+          t.first_unreadable.find("log time " + std::to_string(kT0 + *numbers.begin() * 1000)),
+          std::string::npos)
+          << t.first_unreadable;
+    }
+    EXPECT_NE(joined(w).find("topic /a: " + std::to_string(lost["/a"].size()) + " of 60"),
+              std::string::npos)
+        << joined(w);
+    EXPECT_FALSE(test::reindexAdvice(w).empty()) << joined(w);  // reindex drops that chunk
+    EXPECT_EQ(fileBytes(file), before) << "verify changed the file";
+  }
+}
+
+/// bag info used to add "see `mcvio bag reindex`" to every storage file problem. A killed
+/// writer's MCAP file is what reindex finishes (and --verify reads its complete chunks, as
+/// reindex keeps them); a file that is no MCAP at all it cannot repair.
+TEST(Recovery, InfoNamesReindexOnlyWhenItRepairsTheProblem) {
+  const auto dir = test::freshPath("hint_killed_mcap");
+  ASSERT_TRUE(writeWithoutClosing(dir, "mcap", /*buffered_tail=*/true));
+  std::vector<std::string> w;
+  bagInfo(dir, &w);
+  EXPECT_NE(joined(test::reindexAdvice(w))
+                .find("`mcvio bag reindex " + dir.string() +
+                      "` finishes the file, keeping every intact chunk"),
+            std::string::npos)
+      << joined(w);
+  w.clear();
+  const BagVerification v = test::verifyBag(dir, &w);
+  EXPECT_EQ(v.readable, 100u) << joined(w);
+  EXPECT_EQ(v.unreadable, 0u) << joined(w);
+
+  const auto garbage = test::freshPath("hint_not_mcap");
+  const auto file = writeChunkedBag(garbage, Compression::Zstd);
+  const auto bytes = test::payload(7, 5000);
+  std::ofstream(file, std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(bytes.data()),
+             static_cast<std::streamsize>(bytes.size()));
+  w.clear();
+  bagInfo(garbage, &w);
+  EXPECT_NE(joined(w).find("wrong magic"), std::string::npos) << joined(w);
+  EXPECT_TRUE(test::reindexAdvice(w).empty()) << joined(w);
+  EXPECT_THROW(BagReindexer::reindex(garbage), InputError);  // indeed
 }
 
 }  // namespace

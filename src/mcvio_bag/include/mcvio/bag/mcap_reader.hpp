@@ -33,6 +33,13 @@ struct McapDamage {
   std::string reason;
 };
 
+/// What the first and last bytes of a file say about it (McapReader::layoutOf).
+enum class McapLayout {
+  NotMcap,     ///< No MCAP magic and Header record at the start: nothing to recover.
+  Unfinished,  ///< Starts as MCAP but has no Footer and trailing magic (a killed writer).
+  Finished,    ///< Starts and ends as MCAP (its inside may still be damaged).
+};
+
 /// Reads one MCAP file written with the ros2 profile (by mcvio or by rosbag2).
 class McapReader : public StorageFileReader {
  public:
@@ -48,6 +55,13 @@ class McapReader : public StorageFileReader {
   void setTopicFilter(const std::set<std::string>& topics) override;
   bool next(BagMessage& out) override;
   FileStatistics statistics() const override;
+  /// Every chunk in file order: decompressed, CRC checked, each message its index lists read
+  /// as next() would (a damaged chunk counts all of its indexed messages, per topic), records
+  /// the indexes miss; messages outside chunks; the data section CRC of Data End when the
+  /// file was loaded through its summary (a linear scan has checked it already).
+  void verify(VerifySink& sink) override;
+  /// Reads only the head and tail of `path`. NotMcap also for a file that cannot be read.
+  static McapLayout layoutOf(const std::filesystem::path& path);
 
   /// True when the index came from the summary section, false after a linear scan.
   bool usedSummary() const { return used_summary_; }
@@ -106,6 +120,10 @@ class McapReader : public StorageFileReader {
   void addSchema(std::uint64_t pos, const std::uint8_t* p, std::uint64_t len);
   void addChannel(std::uint64_t pos, const std::uint8_t* p, std::uint64_t len);
   void finishTopics();
+  /// Why `rec` (`avail` bytes to the end of its chunk or file) is no readable Message record
+  /// on `channel`; nullptr when it is one.
+  static const char* messageRecordProblem(const std::uint8_t* rec, std::uint64_t avail,
+                                          std::uint16_t channel);
   [[noreturn]] void fail(std::uint64_t offset, const std::string& what) const;
 
   std::string name_;

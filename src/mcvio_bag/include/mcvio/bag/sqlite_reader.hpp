@@ -38,6 +38,13 @@ class SqliteReader : public StorageFileReader {
   bool next(BagMessage& out) override;
   FileStatistics statistics() const override;
   std::vector<std::string> warnings() const override { return warnings_; }
+  /// Every row in row id order, checked as next() checks it and decompressed with the
+  /// compression the reader was given. Damaged pages end the scan: the rows beyond them are
+  /// counted per topic when sqlite still can.
+  void verify(VerifySink& sink) override;
+  /// verify() with another message compression (e.g. the one the messages show when
+  /// metadata.yaml names the wrong one).
+  void verify(VerifySink& sink, Compression message_compression);
   /// The YAML stored in the metadata table, or empty.
   std::string storedMetadataYaml() const;
   /// The message compression the first stored message shows (a zstd or lz4 frame starts with
@@ -54,6 +61,10 @@ class SqliteReader : public StorageFileReader {
 
  private:
   [[noreturn]] void fail(const std::string& what) const;
+  /// Checks and decodes the current row of `st` (rowid, topic_id, timestamp, data) into `out`;
+  /// InputError naming the row, topic and field when it cannot be read. False when `filter`
+  /// is set and the topic filter excludes the row.
+  bool readRow(sqlite3_stmt* st, Compression compression, bool filter, BagMessage& out);
   /// Opens `path` into db_ and reads its schema once; false (db_ null, `why` set) on failure.
   bool openDatabase(const std::filesystem::path& path, bool read_only, std::string& why);
   /// Copies the file with its -wal / -journal into a new temp_dir_; returns the copy's path.

@@ -18,6 +18,21 @@ struct FileStatistics {
   std::map<std::string, std::uint64_t> topic_message_counts;
 };
 
+/// Receives what StorageFileReader::verify() finds, message by message.
+class VerifySink {
+ public:
+  virtual ~VerifySink() = default;
+  /// One message of `topic` was read (and decompressed) intact.
+  virtual void readable(const std::string& topic) = 0;
+  /// `count` messages of `topic` ("" when the file no longer tells) cannot be read; `what`
+  /// names the file, the place (row id or byte offset), the log time, why, and whether
+  /// `mcvio bag reindex` can do anything about it.
+  virtual void unreadable(const std::string& topic, std::uint64_t count,
+                          const std::string& what) = 0;
+  /// Damage that is not one topic's messages (e.g. the MCAP data section CRC).
+  virtual void problem(const std::string& what) = 0;
+};
+
 /// One storage file of a bag being read (an .mcap or a .db3), yielding messages in log-time
 /// order. Corrupt content throws mcvio::InputError naming the file and byte offset.
 class StorageFileReader {
@@ -33,6 +48,11 @@ class StorageFileReader {
   /// Oddities that do not stop reading (e.g. an unknown sqlite3 schema version or a topic
   /// whose serialization format is not CDR), one line each naming the file and topic.
   virtual std::vector<std::string> warnings() const { return {}; }
+  /// Reads every message the file holds (MCAP: decompresses every chunk and checks its CRC;
+  /// sqlite3: every row, decompressed), whatever the topic filter, and tells `sink` about each
+  /// one. Damage is reported, not thrown; one message (MCAP: one chunk) is in memory at a time.
+  /// Independent of next(). Never writes to the file.
+  virtual void verify(VerifySink& sink) = 0;
 };
 
 }  // namespace mcvio::bag
