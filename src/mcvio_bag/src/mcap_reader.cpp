@@ -843,6 +843,14 @@ McapLayout McapReader::layoutOf(const std::filesystem::path& path) {
   return layout;
 }
 
+void McapReader::releasePages(std::uint64_t from, std::uint64_t to) const {
+  // Read-only private mapping: dropped pages come back from the file if touched again.
+  if (map_ == nullptr || to <= from) return;
+  const auto page = static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
+  const std::uint64_t begin = from / page * page;
+  ::madvise(static_cast<std::uint8_t*>(map_) + begin, std::min(to, size_) - begin, MADV_DONTNEED);
+}
+
 void McapReader::verify(VerifySink& sink) {
   const auto topicOf = [this](std::uint16_t ch) -> const std::string& {
     return topics_[static_cast<std::size_t>(channel_topic_[ch])].name;
@@ -853,7 +861,9 @@ void McapReader::verify(VerifySink& sink) {
     const mcap::ChunkInfo& c = chunks_[no];
     try {
       decompressChunk(no, records);
+      releasePages(c.start_offset, c.start_offset + c.length);  // one chunk at a time in memory
     } catch (const InputError& e) {
+      releasePages(c.start_offset, c.start_offset + c.length);
       // Its Message Index records (kept outside the chunk) still say what it held.
       damaged = true;
       for (const auto& [ch, entries] : c.message_index) {
@@ -943,7 +953,14 @@ void McapReader::verify(VerifySink& sink) {
       if (data_[at] == mcap::kDataEnd && readU64(data_ + at + 1) == 4) {
         std::memcpy(&crc, data_ + at + mcap::kRecordPrefix, 4);
       }
-      if (crc != 0 && Crc32::update(0, data_, at) != crc) {
+      std::uint32_t computed = 0;
+      for (std::uint64_t p = 0; p < at;) {
+        const std::uint64_t n = std::min<std::uint64_t>(at - p, 4ull << 20);
+        computed = Crc32::update(computed, data_ + p, n);
+        releasePages(p, p + n);
+        p += n;
+      }
+      if (crc != 0 && computed != crc) {
         sink.problem(name_ + ": bad data section CRC (Data End at byte offset " +
                      std::to_string(at) +
                      "): bytes outside the chunks' records are damaged; every message was "

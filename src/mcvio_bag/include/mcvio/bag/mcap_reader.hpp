@@ -124,6 +124,8 @@ class McapReader : public StorageFileReader {
   /// on `channel`; nullptr when it is one.
   static const char* messageRecordProblem(const std::uint8_t* rec, std::uint64_t avail,
                                           std::uint16_t channel);
+  /// Lets the kernel drop the mapped pages of [from, to) (verify() reads a file once).
+  void releasePages(std::uint64_t from, std::uint64_t to) const;
   [[noreturn]] void fail(std::uint64_t offset, const std::string& what) const;
 
   std::string name_;
