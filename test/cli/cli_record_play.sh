@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Record while `mcvio play --lossless` plays the real EuRoC excerpt: every topic's count in the bag
-# equals what the player published. Then a recorder killed with -9 leaves a bag that
-# `mcvio bag reindex` makes readable again. Skips (77) without ../shared.
+# equals what the player published, and `bag info --verify` finds a byte flipped in it. Then a
+# recorder killed with -9 leaves a bag that `mcvio bag reindex` makes readable again. Skips (77)
+# without ../shared.
 set -u
 mcvio=$1
 data=${MCVIO_SHARED_DIR:-}/data/euroc_V1_01_excerpt
@@ -26,6 +27,22 @@ for t in /cam0/image_raw /cam1/image_raw /cam0/camera_info /cam1/camera_info; do
 done
 [ "$(count /imu0)" = "$imu" ] && echo "ok: /imu0 $imu" || { echo "FAIL: /imu0 has $(count /imu0), played $imu"; failed=1; }
 [ "$(count /ground_truth/odometry)" = "$gt" ] && echo "ok: ground truth $gt" || { echo "FAIL: gt $(count /ground_truth/odometry) vs $gt"; failed=1; }
+
+# bag info --verify reads every message: 0 unreadable here; one flipped byte in the middle of the
+# file (inside a chunk, behind an intact summary) is reported with exit status 1.
+"$mcvio" bag info --verify "$tmp/bag" > "$tmp/verify.txt" 2>&1 && grep -qE '^Verified: +[0-9]+ messages read intact, 0 unreadable$' "$tmp/verify.txt" &&
+  echo "ok: $(grep '^Verified:' "$tmp/verify.txt")" || { echo "FAIL: bag info --verify"; cat "$tmp/verify.txt"; failed=1; }
+file=$(ls "$tmp"/bag/*.mcap | head -n 1)
+at=$(( $(stat -c %s "$file") / 2 ))
+byte=$(od -An -tu1 -j "$at" -N1 "$file" | tr -d ' ')
+printf "\\$(printf %o $(( byte ^ 0x5A )))" | dd of="$file" bs=1 seek="$at" conv=notrunc status=none
+if "$mcvio" bag info --verify "$tmp/bag" > "$tmp/verify2.txt" 2>&1; then
+  echo "FAIL: bag info --verify passed a damaged chunk"; cat "$tmp/verify2.txt"; failed=1
+elif grep -q "messages unreadable; the first: .*byte offset" "$tmp/verify2.txt"; then
+  echo "ok: $(grep '^Verified:' "$tmp/verify2.txt")"
+else
+  echo "FAIL: bag info --verify did not name the damaged chunk"; cat "$tmp/verify2.txt"; failed=1
+fi
 
 # kill -9 mid-recording, then reindex.
 "$mcvio" record -o "$tmp/killed" --all > "$tmp/record2.txt" 2>&1 &
