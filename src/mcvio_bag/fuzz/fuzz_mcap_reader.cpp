@@ -1,11 +1,20 @@
 // libFuzzer target: any bytes given to McapReader (strict and recover) must end in messages or
-// an InputError, never a crash, hang or sanitizer report.
+// an InputError, never a crash, hang or sanitizer report; verify() reports, never throws.
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "mcvio/bag/mcap_reader.hpp"
 #include "mcvio/core/input_error.hpp"
+
+namespace {
+struct IgnoreAll : mcvio::bag::VerifySink {
+  void readable(const std::string&) override {}
+  void unreadable(const std::string&, std::uint64_t, const std::string&) override {}
+  void problem(const std::string&) override {}
+};
+}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   for (auto mode : {mcvio::bag::McapReadMode::Strict, mcvio::bag::McapReadMode::Recover}) {
@@ -15,6 +24,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       while (r.next(m)) {
       }
       (void)r.statistics();
+      IgnoreAll sink;
+      r.verify(sink);
     } catch (const mcvio::InputError&) {
     }
   }
