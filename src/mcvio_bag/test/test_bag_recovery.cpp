@@ -234,6 +234,8 @@ TEST(Recovery, ReadingSqliteLeavesTheWriteAheadLogAndFileUntouched) {
     bagInfo(dir, &w);
     // metadata.yaml of a killed writer lists no message; the storage (its -wal) all of them.
     EXPECT_NE(joined(w).find("the storage files hold 100"), std::string::npos) << joined(w);
+    // --verify reads every row, those in the -wal too, and also changes nothing.
+    EXPECT_EQ(test::verifyBag(dir).readable, 100u);
     EXPECT_EQ(checksum(db3), db3_sum) << "the .db3 was modified";
     EXPECT_EQ(checksum(wal), wal_sum) << "the -wal was modified or deleted";
     // The repair command is the one that folds the log in.
