@@ -315,6 +315,35 @@ TEST(MotionConflictMonitor, CabinInImuModeGoesImuDominatedWithRewindAndHeldBias)
   }
 }
 
+// A cabin that pitches slowly agrees with the gyro over every horizon while its sum tilts the
+// estimate, so by default vision's rotation stays out of an IMU-dominated interval; the option
+// keeps it while it agrees (this cabin does not turn).
+TEST(MotionConflictMonitor, ImuDominatedIntervalLeavesTheAttitudeToTheGyroUnlessAsked) {
+  const Scenario sc = cabin(80, kCabinFrame);
+  conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kImu);
+  ASSERT_FALSE(o.keep_consistent_rotation);
+  const auto gyro_only = run(sc, o, kCabinFrame + kFramesAfterCabin);
+  o.keep_consistent_rotation = true;
+  const auto with_vision = run(sc, o, kCabinFrame + kFramesAfterCabin);
+  int dominated = 0, kept = 0;
+  for (std::size_t k = 0; k < gyro_only.size(); ++k) {
+    EXPECT_FALSE(gyro_only[k].decision.vision_rotation) << "frame " << k;
+    ASSERT_EQ(gyro_only[k].decision.imu_dominated, with_vision[k].decision.imu_dominated) << "frame " << k;
+    if (!with_vision[k].decision.imu_dominated) {
+      EXPECT_FALSE(with_vision[k].decision.vision_rotation) << "frame " << k;
+      continue;
+    }
+    ++dominated;
+    if (!with_vision[k].decision.vision_rotation) continue;
+    ++kept;
+    // The cabin does not turn: the kept rotation is the identity within the pixel noise.
+    EXPECT_LT(with_vision[k].decision.q_prev_cur.angularDistance(Eigen::Quaterniond::Identity()), 1e-3)
+        << "frame " << k;
+  }
+  ASSERT_GE(dominated, 20);
+  EXPECT_GE(kept, dominated * 9 / 10);
+}
+
 TEST(MotionConflictMonitor, CabinInReferenceModeIsReportedButNotResolved) {
   const auto frames = run(cabin(80, kCabinFrame), withMode(conflict::ResolutionMode::kReference),
                           kCabinFrame + kFramesAfterCabin);
