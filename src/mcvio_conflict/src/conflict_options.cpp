@@ -83,6 +83,8 @@ void ConflictOptions::validate() const {
   require(onset_lookback_frames >= 0 && onset_lookback_frames <= 400, "onset_lookback_frames", "must be in [0, 400]",
           onset_lookback_frames);
   require(rotation_chi2_threshold > 0, "rotation_chi2_threshold", "must be > 0", rotation_chi2_threshold);
+  require(exit_velocity_frames >= 2 && exit_velocity_frames <= 100, "exit_velocity_frames",
+          "must be in [2, 100]", exit_velocity_frames);
   require(rewind_frames >= 0 && rewind_frames <= 400, "rewind_frames", "must be in [0, 400]", rewind_frames);
   require(hold_min_secondary_speed_mps > 0, "hold_min_secondary_speed_mps", "must be > 0", hold_min_secondary_speed_mps);
   require(hold_secondary_speed_fraction >= 0 && hold_secondary_speed_fraction <= 1, "hold_secondary_speed_fraction",
@@ -168,6 +170,7 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("rewind_frames", &o.rewind_frames);
   read("keep_consistent_rotation", &o.keep_consistent_rotation);
   read("rotation_chi2_threshold", &o.rotation_chi2_threshold);
+  read("exit_velocity_frames", &o.exit_velocity_frames);
   read("hold_min_secondary_speed_mps", &o.hold_min_secondary_speed_mps);
   read("hold_secondary_speed_fraction", &o.hold_secondary_speed_fraction);
   read("hold_max_speed_gain", &o.hold_max_speed_gain);

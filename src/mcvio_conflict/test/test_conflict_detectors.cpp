@@ -418,4 +418,6 @@ TEST(ConflictOptions, YamlErrorsNameTheKey) {
   }
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("enter_frames: 0")), InputError);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("min_coherence: abc")), InputError);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("exit_velocity_frames: 1")), InputError);
+  EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("exit_velocity_frames: 5")).exit_velocity_frames, 5);
 }

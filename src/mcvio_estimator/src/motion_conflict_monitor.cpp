@@ -266,14 +266,15 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     Entry r = history_[r_index];
     // Inside an IMU-dominated interval the inertial velocity has drifted from what vision sees;
     // whether the conflict goes on is a question of acceleration, so take r's velocity from vision
-    // (over the H frames before r). When the view's tracks do not reach that far back (every track
-    // is new once an occluder has gone) that velocity would measure the occluder, so the velocity
-    // span and the test span share what the tracks do reach.
+    // (over the exit_velocity_frames before r). When the view's tracks do not reach that far back
+    // (every track is new once an occluder has gone) that velocity would measure the occluder, so
+    // the velocity span and the test span share what the tracks do reach.
     if (imu_dominated_) {
-      const std::size_t reach = trackReach(cam0, static_cast<std::size_t>(2 * H));
-      std::size_t span = static_cast<std::size_t>(H);
-      if (reach < static_cast<std::size_t>(2 * H) && reach >= 4) {  // two frames each at least
-        span = reach / 2;
+      const auto want = static_cast<std::size_t>(options_.exit_velocity_frames);
+      const std::size_t reach = trackReach(cam0, static_cast<std::size_t>(H) + want);
+      std::size_t span = want;
+      if (reach < static_cast<std::size_t>(H) + want && reach >= 4) {  // two frames each at least
+        span = std::min(want, reach / 2);
         r_index = history_.size() - (reach - span);
         r = history_[r_index];
       }
@@ -623,7 +624,7 @@ void MotionConflictMonitor::commit(const State& solved, ConflictReport* report) 
   }
   const std::size_t keep =
       static_cast<std::size_t>(options_.horizon_frames + options_.enter_frames + options_.bias_reference_lag_frames +
-                               options_.rewind_frames + 10);
+                               options_.rewind_frames + options_.exit_velocity_frames + 10);
   while (history_.size() > keep) history_.pop_front();
 }
 

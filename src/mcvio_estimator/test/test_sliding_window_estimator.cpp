@@ -353,7 +353,10 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_DOUBLE_EQ(c.bias_drift_fast_factor, dc.bias_drift_fast_factor);
   EXPECT_EQ(c.bias_drift_fast_frames, dc.bias_drift_fast_frames);
   EXPECT_DOUBLE_EQ(c.split_chi2_threshold, dc.split_chi2_threshold);
-  EXPECT_EQ(root["conflict"].size(), 55u) << "every conflict option appears once";
+  EXPECT_EQ(c.keep_consistent_rotation, dc.keep_consistent_rotation);
+  EXPECT_DOUBLE_EQ(c.rotation_chi2_threshold, dc.rotation_chi2_threshold);
+  EXPECT_EQ(c.exit_velocity_frames, dc.exit_velocity_frames);
+  EXPECT_EQ(root["conflict"].size(), 56u) << "every conflict option appears once";
 }
 
 }  // namespace

@@ -168,6 +168,11 @@ struct ConflictOptions {
   /// 1.4 degrees, and gravity leaked into the position (src/mcvio_conflict/README.md).
   bool keep_consistent_rotation = false;
   double rotation_chi2_threshold = 16.3;
+  /// IMU-dominated: the horizon's test then starts from r's velocity as vision measures it over
+  /// this many frames before r, so it tests the conflicting frame's acceleration over those
+  /// frames and the horizon. Fewer frames end the interval sooner after a vehicle stops (its
+  /// braking leaves the span sooner), and also sooner in the quiet tail of a gentle ride.
+  int exit_velocity_frames = 10;
   /// How far before the first frame of evidence the rewind goes: a smooth onset (a cabin starting
   /// gently) moves vision away from the IMU before the detectors can tell.
   int rewind_frames = 40;
