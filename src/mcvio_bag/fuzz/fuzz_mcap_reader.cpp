@@ -6,15 +6,9 @@
 #include <vector>
 
 #include "mcvio/bag/mcap_reader.hpp"
+#include "ignoring_verify_sink.hpp"
 #include "mcvio/core/input_error.hpp"
 
-namespace {
-struct IgnoreAll : mcvio::bag::VerifySink {
-  void readable(const std::string&) override {}
-  void unreadable(const std::string&, std::uint64_t, const std::string&) override {}
-  void problem(const std::string&) override {}
-};
-}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   for (auto mode : {mcvio::bag::McapReadMode::Strict, mcvio::bag::McapReadMode::Recover}) {
@@ -24,7 +18,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       while (r.next(m)) {
       }
       (void)r.statistics();
-      IgnoreAll sink;
+      IgnoringVerifySink sink;
       r.verify(sink);
     } catch (const mcvio::InputError&) {
     }

@@ -10,15 +10,9 @@
 #include <string>
 
 #include "mcvio/bag/sqlite_reader.hpp"
+#include "ignoring_verify_sink.hpp"
 #include "mcvio/core/input_error.hpp"
 
-namespace {
-struct IgnoreAll : mcvio::bag::VerifySink {
-  void readable(const std::string&) override {}
-  void unreadable(const std::string&, std::uint64_t, const std::string&) override {}
-  void problem(const std::string&) override {}
-};
-}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const std::filesystem::path path =
@@ -35,7 +29,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       while (r.next(m) && ++n < 10000) {
       }
       (void)r.statistics();
-      IgnoreAll sink;
+      IgnoringVerifySink sink;
       r.verify(sink);
     } catch (const mcvio::InputError&) {
     }
