@@ -63,6 +63,22 @@ bool endsWithFooter(const std::uint8_t* tail, std::uint64_t size) {
          tail[0] == mcap::kFooter && readU64(tail + 1) == 20;
 }
 
+/// Walks the records of a decompressed Chunk, calling on_record(offset, opcode, body length) for
+/// each. nullptr when they end exactly at its end; otherwise why not, with `at` the offset of the
+/// record that does not fit.
+template <class OnRecord>
+const char* walkChunkRecords(const std::vector<std::uint8_t>& records, std::uint64_t& at,
+                             OnRecord on_record) {
+  for (at = 0; at < records.size();) {
+    if (records.size() - at < mcap::kRecordPrefix) return "truncated record inside Chunk";
+    const std::uint64_t len = readU64(records.data() + at + 1);
+    if (len > records.size() - at - mcap::kRecordPrefix) return "record inside Chunk runs past the Chunk";
+    on_record(at, records[at], len);
+    at += mcap::kRecordPrefix + len;
+  }
+  return nullptr;
+}
+
 /// Reads `n` bytes at `offset`; false when the file has fewer.
 bool readAt(int fd, std::uint64_t offset, std::uint8_t* out, std::uint64_t n) {
   while (n > 0) {
@@ -683,20 +699,16 @@ void McapReader::verifyChunks() const {
     const mcap::ChunkInfo& c = chunks_[no];
     decompressChunk(no, records);
     std::map<std::uint16_t, std::vector<std::pair<std::uint64_t, std::uint64_t>>> found;
-    for (std::uint64_t p = 0; p < records.size();) {
-      if (records.size() - p < mcap::kRecordPrefix) fail(c.start_offset, "truncated record inside Chunk");
-      const std::uint64_t len = readU64(records.data() + p + 1);
-      if (len > records.size() - p - mcap::kRecordPrefix) {
-        fail(c.start_offset, "record inside Chunk runs past the Chunk");
-      }
-      if (records[p] == mcap::kMessage) {
-        if (len < 22) fail(c.start_offset, "Message record inside Chunk is too short");
-        std::uint16_t ch;
-        std::memcpy(&ch, records.data() + p + mcap::kRecordPrefix, 2);
-        found[ch].emplace_back(readU64(records.data() + p + mcap::kRecordPrefix + 6), p);
-      }
-      p += mcap::kRecordPrefix + len;
-    }
+    std::uint64_t at = 0;
+    const auto on_record = [&](std::uint64_t p, std::uint8_t op, std::uint64_t len) {
+      if (op != mcap::kMessage) return;
+      if (len < 22) fail(c.start_offset, "Message record inside Chunk is too short");
+      std::uint16_t ch;
+      std::memcpy(&ch, records.data() + p + mcap::kRecordPrefix, 2);
+      found[ch].emplace_back(readU64(records.data() + p + mcap::kRecordPrefix + 6), p);
+    };
+    const char* why = walkChunkRecords(records, at, on_record);
+    if (why != nullptr) fail(c.start_offset, why);
     std::map<std::uint16_t, std::vector<std::pair<std::uint64_t, std::uint64_t>>> indexed;
     for (const auto& [ch, e] : c.message_index) {
       if (!e.empty()) indexed[ch] = e;
@@ -902,17 +914,13 @@ void McapReader::verify(VerifySink& sink) {
     }
     // Message records no index lists: readers going by the indexes never return them.
     std::uint64_t unlisted = 0;
-    for (std::uint64_t p = 0; p < records.size();) {
-      const std::uint64_t left = records.size() - p;
-      if (left < mcap::kRecordPrefix ||
-          readU64(records.data() + p + 1) > left - mcap::kRecordPrefix) {
-        damaged = true;
-        sink.problem(name_ + ": record at uncompressed offset " + std::to_string(p) +
-                     " runs past its Chunk at byte offset " + std::to_string(c.start_offset));
-        break;
-      }
-      if (records[p] == mcap::kMessage && listed.count(p) == 0) ++unlisted;
-      p += mcap::kRecordPrefix + readU64(records.data() + p + 1);
+    std::uint64_t at = 0;
+    if (walkChunkRecords(records, at, [&](std::uint64_t p, std::uint8_t op, std::uint64_t) {
+          if (op == mcap::kMessage && listed.count(p) == 0) ++unlisted;
+        }) != nullptr) {
+      damaged = true;
+      sink.problem(name_ + ": record at uncompressed offset " + std::to_string(at) +
+                   " runs past its Chunk at byte offset " + std::to_string(c.start_offset));
     }
     if (wrong_times > 0) {
       damaged = true;
