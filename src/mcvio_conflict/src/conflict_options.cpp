@@ -85,6 +85,8 @@ void ConflictOptions::validate() const {
   require(rotation_chi2_threshold > 0, "rotation_chi2_threshold", "must be > 0", rotation_chi2_threshold);
   require(exit_velocity_frames >= 2 && exit_velocity_frames <= 100, "exit_velocity_frames",
           "must be in [2, 100]", exit_velocity_frames);
+  require(exit_velocity_frames_after_hold >= 2 && exit_velocity_frames_after_hold <= 100,
+          "exit_velocity_frames_after_hold", "must be in [2, 100]", exit_velocity_frames_after_hold);
   require(rewind_frames >= 0 && rewind_frames <= 400, "rewind_frames", "must be in [0, 400]", rewind_frames);
   require(hold_min_secondary_speed_mps > 0, "hold_min_secondary_speed_mps", "must be > 0", hold_min_secondary_speed_mps);
   require(hold_secondary_speed_fraction >= 0 && hold_secondary_speed_fraction <= 1, "hold_secondary_speed_fraction",
@@ -171,6 +173,7 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("keep_consistent_rotation", &o.keep_consistent_rotation);
   read("rotation_chi2_threshold", &o.rotation_chi2_threshold);
   read("exit_velocity_frames", &o.exit_velocity_frames);
+  read("exit_velocity_frames_after_hold", &o.exit_velocity_frames_after_hold);
   read("hold_min_secondary_speed_mps", &o.hold_min_secondary_speed_mps);
   read("hold_secondary_speed_fraction", &o.hold_secondary_speed_fraction);
   read("hold_max_speed_gain", &o.hold_max_speed_gain);

@@ -420,4 +420,7 @@ TEST(ConflictOptions, YamlErrorsNameTheKey) {
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("min_coherence: abc")), InputError);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("exit_velocity_frames: 1")), InputError);
   EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("exit_velocity_frames: 5")).exit_velocity_frames, 5);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("exit_velocity_frames_after_hold: 101")), InputError);
+  EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("exit_velocity_frames_after_hold: 10")).exit_velocity_frames_after_hold,
+            10);
 }

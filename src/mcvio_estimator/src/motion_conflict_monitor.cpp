@@ -266,11 +266,14 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     Entry r = history_[r_index];
     // Inside an IMU-dominated interval the inertial velocity has drifted from what vision sees;
     // whether the conflict goes on is a question of acceleration, so take r's velocity from vision
-    // (over the exit_velocity_frames before r). When the view's tracks do not reach that far back
+    // (over the exit_velocity_frames before r, fewer once the speed hold has let go: a stopping
+    // ride's braking should leave the test soon). When the view's tracks do not reach that far back
     // (every track is new once an occluder has gone) that velocity would measure the occluder, so
     // the velocity span and the test span share what the tracks do reach.
     if (imu_dominated_) {
-      const auto want = static_cast<std::size_t>(options_.exit_velocity_frames);
+      const auto want = static_cast<std::size_t>(speed_hold_engaged_ && !speed_hold_holding_
+                                                     ? options_.exit_velocity_frames_after_hold
+                                                     : options_.exit_velocity_frames);
       const std::size_t reach = trackReach(cam0, static_cast<std::size_t>(H) + want);
       std::size_t span = want;
       if (reach < static_cast<std::size_t>(H) + want && reach >= 4) {  // two frames each at least
@@ -424,6 +427,9 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
         along <= options_.hold_max_speed_gain * evidence_secondary_speed_) {
       evidence = true;
       speed_hold_engaged_ = true;
+      speed_hold_holding_ = true;
+    } else {
+      speed_hold_holding_ = false;
     }
   }
   pending_.evidence = evidence;
@@ -511,6 +517,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
       imu_dominated_ = true;
       drift_opened_ = drift_fired;
       speed_hold_engaged_ = false;
+      speed_hold_holding_ = false;
       peak_secondary_velocity_.setZero();
       evidence_secondary_speed_ = 0;
       // The state before the evidence run: the reference frame of its first frame.
@@ -624,7 +631,8 @@ void MotionConflictMonitor::commit(const State& solved, ConflictReport* report) 
   }
   const std::size_t keep =
       static_cast<std::size_t>(options_.horizon_frames + options_.enter_frames + options_.bias_reference_lag_frames +
-                               options_.rewind_frames + options_.exit_velocity_frames + 10);
+                               options_.rewind_frames +
+                               std::max(options_.exit_velocity_frames, options_.exit_velocity_frames_after_hold) + 10);
   while (history_.size() > keep) history_.pop_front();
 }
 

@@ -47,27 +47,37 @@ conflict::RigGeometry rig() {
 }
 
 /// Body motion without rotation: constant acceleration along x plus an optional smooth vertical
-/// pulse a_z = A sin^2(pi (s - s0) / T) on [s0, s0 + T] (an elevator starting), all closed form.
+/// pulse a_z = A sin^2(pi (s - s0) / T) on [s0, s0 + T] (an elevator starting) and the same pulse
+/// reversed from `brake_start_s` (the elevator stopping), all closed form.
 struct Trajectory {
   Eigen::Vector3d v0{0.1, 0, 0};
   double accel_x = 0.05;
   double pulse_start_s = kNever, pulse_duration_s = 1.0, pulse_peak = 0.0;
+  double brake_start_s = kNever;
 
-  Eigen::Vector3d accel(double s) const {
-    const double tau = s - pulse_start_s, w = 2 * EIGEN_PI / pulse_duration_s;
-    const double az = tau > 0 && tau < pulse_duration_s ? 0.5 * pulse_peak * (1 - std::cos(w * tau)) : 0.0;
-    return {accel_x, 0, az};
-  }
+  Eigen::Vector3d accel(double s) const { return {accel_x, 0, pulseAccel(s - pulse_start_s) - pulseAccel(s - brake_start_s)}; }
   Eigen::Vector3d velocity(double s) const {
-    const double tau = std::clamp(s - pulse_start_s, 0.0, pulse_duration_s), w = 2 * EIGEN_PI / pulse_duration_s;
-    return v0 + Eigen::Vector3d(accel_x * s, 0, 0.5 * pulse_peak * (tau - std::sin(w * tau) / w));
+    return v0 + Eigen::Vector3d(accel_x * s, 0, pulseVelocity(s - pulse_start_s) - pulseVelocity(s - brake_start_s));
   }
   Eigen::Vector3d position(double s) const {
+    return v0 * s + Eigen::Vector3d(0.5 * accel_x * s * s, 0,
+                                    pulsePosition(s - pulse_start_s) - pulsePosition(s - brake_start_s));
+  }
+
+ private:
+  // One pulse's contribution `tau` seconds after it starts (negative or -inf: before it).
+  double pulseAccel(double tau) const {
+    const double w = 2 * EIGEN_PI / pulse_duration_s;
+    return tau > 0 && tau < pulse_duration_s ? 0.5 * pulse_peak * (1 - std::cos(w * tau)) : 0.0;
+  }
+  double pulseVelocity(double tau) const {
+    const double c = std::clamp(tau, 0.0, pulse_duration_s), w = 2 * EIGEN_PI / pulse_duration_s;
+    return 0.5 * pulse_peak * (c - std::sin(w * c) / w);
+  }
+  double pulsePosition(double tau) const {
     const double T = pulse_duration_s, w = 2 * EIGEN_PI / T;
-    const double tau = std::clamp(s - pulse_start_s, 0.0, T), after = std::max(0.0, s - pulse_start_s - T);
-    const double z = 0.5 * pulse_peak * (0.5 * tau * tau + (std::cos(w * tau) - 1) / (w * w)) +
-                     0.5 * pulse_peak * T * after;
-    return v0 * s + Eigen::Vector3d(0.5 * accel_x * s * s, 0, z);
+    const double c = std::clamp(tau, 0.0, T), after = std::max(0.0, tau - T);
+    return 0.5 * pulse_peak * (0.5 * c * c + (std::cos(w * c) - 1) / (w * w)) + 0.5 * pulse_peak * T * after;
   }
 };
 
@@ -814,6 +824,37 @@ TEST(MotionConflictMonitor, ACabinCruisingAtSteadySpeedKeepsItsIntervalOpen) {
     return &f - released.data() > entry && !f.decision.imu_dominated;
   });
   EXPECT_GT(exit, entry) << "the interval should close while the cabin cruises";
+}
+
+TEST(MotionConflictMonitor, AStoppingCabinLeavesTheTestSoonerOnceTheSpeedHoldLetsGo) {
+  // The cruising cabin brakes after 2 s (the same pulse reversed) and stands still from then on.
+  // Once its speed falls below the hold's share of the peak, vision's velocity is taken over
+  // exit_velocity_frames_after_hold frames, so the braking leaves the acceleration test sooner.
+  Scenario sc = cabin(80, kCabinFrame);
+  sc.traj.pulse_peak = 3.0;
+  sc.traj.brake_start_s = sc.traj.pulse_start_s + 3.0;
+  const int stop_frame = kCabinFrame + 80;
+  ASSERT_NEAR(sc.traj.velocity(frameSeconds(stop_frame)).z(), 0.0, 1e-9);
+  const int frames_total = stop_frame + 80;
+  auto exitFrame = [&](int after_hold_frames, int* entry) {
+    conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kImu);
+    o.exit_velocity_frames_after_hold = after_hold_frames;
+    const auto frames = run(sc, o, frames_total);
+    *entry = firstFrame(frames, [](const Frame& f) { return f.decision.imu_dominated; });
+    const int e = *entry;
+    return firstFrame(frames, [&](const Frame& f) { return &f - frames.data() > e && !f.decision.imu_dominated; });
+  };
+  int entry_short = -1, entry_long = -1;
+  const int exit_short = exitFrame(5, &entry_short);
+  const int exit_long = exitFrame(10, &entry_long);  // = exit_velocity_frames: the option off
+  ASSERT_GT(entry_short, kCabinFrame);
+  ASSERT_LE(entry_short, kCabinFrame + kMaxCabinEntryDelay);
+  EXPECT_EQ(entry_long, entry_short);
+  // Both stay IMU-dominated through the cruise and the braking, ...
+  EXPECT_GE(exit_short, stop_frame);
+  EXPECT_GE(exit_long, stop_frame);
+  // ... and the short span ends the interval sooner after the stop.
+  EXPECT_LE(exit_short, exit_long - 3) << "short " << exit_short << ", long " << exit_long;
 }
 
 TEST(MotionConflictMonitor, AnIntervalEndingWithAVelocityJumpRestartsAtVisionsVelocity) {

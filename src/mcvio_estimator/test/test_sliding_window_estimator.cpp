@@ -356,7 +356,8 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_EQ(c.keep_consistent_rotation, dc.keep_consistent_rotation);
   EXPECT_DOUBLE_EQ(c.rotation_chi2_threshold, dc.rotation_chi2_threshold);
   EXPECT_EQ(c.exit_velocity_frames, dc.exit_velocity_frames);
-  EXPECT_EQ(root["conflict"].size(), 56u) << "every conflict option appears once";
+  EXPECT_EQ(c.exit_velocity_frames_after_hold, dc.exit_velocity_frames_after_hold);
+  EXPECT_EQ(root["conflict"].size(), 57u) << "every conflict option appears once";
 }
 
 }  // namespace

@@ -173,6 +173,10 @@ struct ConflictOptions {
   /// frames and the horizon. Fewer frames end the interval sooner after a vehicle stops (its
   /// braking leaves the span sooner), and also sooner in the quiet tail of a gentle ride.
   int exit_velocity_frames = 10;
+  /// ... and this many once the speed hold below has engaged and no longer holds (the cabin or
+  /// vehicle slowing to its stop): the braking then leaves the test sooner. The long span stays
+  /// for the rest of a ride, where a gentle one needs it. Equal to exit_velocity_frames: off.
+  int exit_velocity_frames_after_hold = 5;
   /// How far before the first frame of evidence the rewind goes: a smooth onset (a cabin starting
   /// gently) moves vision away from the IMU before the detectors can tell.
   int rewind_frames = 40;

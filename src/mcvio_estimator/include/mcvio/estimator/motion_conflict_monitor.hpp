@@ -165,6 +165,7 @@ class MotionConflictMonitor {
   bool imu_dominated_ = false;
   bool drift_opened_ = false;  ///< the bias-drift detector opened the IMU-dominated interval
   bool speed_hold_engaged_ = false;  ///< the secondary speed has held the interval open
+  bool speed_hold_holding_ = false;  ///< ... and did on the last frame
   int drift_frames_ = 0;             ///< consecutive frames with the bias drift over its limit
   int fast_drift_frames_ = 0;        ///< ... and over bias_drift_fast_factor times it
   ConflictIntervalSmoother smoother_;
