@@ -285,40 +285,31 @@ void reportVerification(const BagVerification& v, std::ostream& os,
   for (const auto& p : v.problems) warn.push_back(p);
 }
 
-}  // namespace
-
-std::string bagInfo(const std::filesystem::path& bag, std::vector<std::string>* warnings) {
-  return bagInfo(bag, warnings, BagInfoOptions{});
+/// A single .mcap or .db3 file, described from its own summary.
+std::string singleFileInfo(const std::filesystem::path& file, const BagInfoOptions& options,
+                           Collector& collector, const BagVerification& verified,
+                           std::vector<std::string>& warn) {
+  if (file.extension() != ".mcap" && file.extension() != ".db3") {
+    throw InputError(file.string() + ": unknown storage (expected a bag directory, .mcap or .db3)");
+  }
+  const std::string storage = storageOfExtension(file);
+  const auto r = openStorageFile(
+      file, storage, storage == "sqlite3" ? sqliteCompressionOfFile(file) : Compression::None);
+  for (const auto& w : r->warnings()) warn.push_back(w);
+  std::string text = formatBagInfo(describeFile(file, *r), std::filesystem::file_size(file));
+  if (options.verify) {
+    r->verify(collector);
+    std::ostringstream os;
+    reportVerification(verified, os, warn);
+    text += os.str();
+  }
+  return text;
 }
 
-std::string bagInfo(const std::filesystem::path& bag, std::vector<std::string>* warnings,
-                    const BagInfoOptions& options, BagVerification* verification) {
-  std::vector<std::string> ignored;
-  auto& warn = warnings ? *warnings : ignored;
-  BagVerification local_verification;
-  BagVerification& verified = verification ? *verification : local_verification;
-  verified = BagVerification{};
-  Collector collector(verified, options.progress);
-  if (std::filesystem::is_regular_file(bag)) {
-    if (bag.extension() != ".mcap" && bag.extension() != ".db3") {
-      throw InputError(bag.string() + ": unknown storage (expected a bag directory, .mcap or .db3)");
-    }
-    const std::string storage = storageOfExtension(bag);
-    const auto r = openStorageFile(
-        bag, storage, storage == "sqlite3" ? sqliteCompressionOfFile(bag) : Compression::None);
-    for (const auto& w : r->warnings()) warn.push_back(w);
-    std::string text = formatBagInfo(describeFile(bag, *r), std::filesystem::file_size(bag));
-    if (options.verify) {
-      r->verify(collector);
-      std::ostringstream os;
-      reportVerification(verified, os, warn);
-      text += os.str();
-    }
-    return text;
-  }
-  const BagMetadata m = readBagMetadata(bag);
-  const std::string md = (bag / kMetadataFileName).string();
-  const std::string reindex = "`mcvio bag reindex " + bag.string() + "`";
+/// metadata.yaml's own fields that look wrong or cannot be read; returns the message
+/// compression sqlite3 storage files are read with.
+Compression checkMetadataFields(const BagMetadata& m, const std::string& md,
+                                std::vector<std::string>& warn) {
   if (m.version > 9) warn.push_back(md + ": version " + std::to_string(m.version) + " is newer than the known 5..9");
   if (m.duration < 0) warn.push_back(md + ": negative duration " + std::to_string(m.duration) + " ns");
   for (const auto& t : m.topics_with_message_count) {
@@ -338,153 +329,205 @@ std::string bagInfo(const std::filesystem::path& bag, std::vector<std::string>* 
   } else if (m.compression_mode == "FILE") {
     warn.push_back(md + ": compression_mode FILE (file-compressed bags) cannot be read");
   }
+  return compression;
+}
+
+/// A bag directory's storage files as opened (and with verify read), against which
+/// metadata.yaml is then compared.
+struct StoredContent {
   std::uint64_t size = 0;
-  std::uint64_t stored_messages = 0;
-  std::map<std::string, std::uint64_t> stored_counts;
-  std::map<std::string, std::string> stored_types;
-  bool all_read = true;
-  bool metadata_disagrees = false;
-  for (const auto& rel : m.relative_file_paths) {
-    const auto p = bag / rel;
-    std::error_code ec;
-    const auto s = std::filesystem::file_size(p, ec);
-    if (ec) {
-      warn.push_back(p.string() +
-                     (std::filesystem::exists(p)
-                          ? ": listed in metadata.yaml but unreadable (" + ec.message() + ")"
-                          : ": listed in metadata.yaml but missing (" + reindex +
-                                " rewrites metadata.yaml without it; its messages "
-                                "stay lost)"));
-      all_read = false;
-      ++verified.files_unread;
-      continue;
-    }
-    size += s;
-    std::unique_ptr<StorageFileReader> r;
-    try {
-      r = openStorageFile(p, m.storage_identifier, compression);
-    } catch (const std::exception& e) {
-      bool mcap_recoverable = false;
-      warn.push_back(e.what() +
-                     openFailureHint(p, m.storage_identifier, reindex, mcap_recoverable));
-      all_read = false;
-      bool recovered = false;
-      if (options.verify && mcap_recoverable) {
-        try {
-          verifyRecovered(p, collector);
-          recovered = true;
-        } catch (const std::exception&) {
-          // Nothing readable: counted as unread below.
-        }
-      }
-      if (!recovered) ++verified.files_unread;
-      continue;
-    }
-    for (const auto& w : r->warnings()) warn.push_back(w);
-    // Which compression the messages show when metadata.yaml names another (reindex records it).
-    std::optional<Compression> shown;
-    try {
-      const FileStatistics st = r->statistics();
-      stored_messages += st.message_count;
-      for (const auto& [t, n] : st.topic_message_counts) stored_counts[t] += n;
-      for (const auto& t : r->topics()) stored_types.emplace(t.name, t.type);
-      for (const auto& f : m.files) {
-        if (f.path == rel && f.message_count != st.message_count) {
-          warn.push_back(md + ": files entry " + rel + " has " + std::to_string(f.message_count) +
-                         " messages but the file holds " + std::to_string(st.message_count));
-          metadata_disagrees = true;
-        }
-      }
-      if (m.storage_identifier == "sqlite3") {
-        // The first message shows whether the message compression is readable (every message:
-        // --verify).
-        auto& sr = static_cast<SqliteReader&>(*r);
-        const auto first_compression = sr.firstMessageCompression();
-        if (first_compression && *first_compression != compression) shown = first_compression;
-        try {
-          BagMessage first;
-          sr.next(first);
-        } catch (const InputError& e) {
-          warn.push_back(e.what() +
-                         (shown
-                              ? "; metadata.yaml's message compression is not the messages' (" +
-                                    toString(*shown) + "): " + reindex +
-                                    " rewrites metadata.yaml from the messages"
-                              : std::string("; the stored message itself is damaged and `mcvio bag "
-                                            "reindex` cannot recover it")));
-          all_read = false;
-        }
-      }
-    } catch (const InputError& e) {
-      // Rows reindex would have to read the same way (unknown topic ids, timestamps or data
-      // that are no INTEGER / BLOB) or damaged pages.
-      warn.push_back(e.what() + std::string("; `mcvio bag reindex` cannot repair this"));
-      all_read = false;
-    }
-    if (options.verify) {
-      if (m.storage_identifier == "sqlite3" && shown && *shown != Compression::None) {
-        // Check the payloads as the frames they are (metadata.yaml's error is reported above).
-        collector.problem(p.string() + ": messages checked as the " + toString(*shown) +
-                          " frames they are; readers go by metadata.yaml until " + reindex +
-                          " rewrites it");
-        static_cast<SqliteReader&>(*r).verify(collector, *shown);
-      } else {
-        r->verify(collector);
-      }
-    }
+  std::uint64_t messages = 0;
+  std::map<std::string, std::uint64_t> counts;
+  std::map<std::string, std::string> types;
+  bool all_read = true;            ///< every listed file opened and its statistics read
+  bool metadata_disagrees = false; ///< a difference reindex would write into metadata.yaml
+};
+
+/// What the file's messages show about metadata.yaml's message compression, and whether its
+/// first message reads (sqlite3; `--verify` reads every one). Returns the compression the
+/// messages show where metadata.yaml names another.
+std::optional<Compression> checkFirstSqliteMessage(SqliteReader& sr, Compression compression,
+                                                   const std::string& reindex, StoredContent& stored,
+                                                   std::vector<std::string>& warn) {
+  std::optional<Compression> shown;
+  const auto first_compression = sr.firstMessageCompression();
+  if (first_compression && *first_compression != compression) shown = first_compression;
+  try {
+    BagMessage first;
+    sr.next(first);
+  } catch (const InputError& e) {
+    warn.push_back(e.what() +
+                   (shown ? "; metadata.yaml's message compression is not the messages' (" +
+                                toString(*shown) + "): " + reindex +
+                                " rewrites metadata.yaml from the messages"
+                          : std::string("; the stored message itself is damaged and `mcvio bag "
+                                        "reindex` cannot recover it")));
+    stored.all_read = false;
   }
+  return shown;
+}
+
+/// Opens one storage file metadata.yaml lists (and with verify reads every message), adding
+/// what it holds to `stored` and its problems to `warn`.
+void inspectListedFile(const std::filesystem::path& bag, const std::string& rel, const BagMetadata& m,
+                       Compression compression, const BagInfoOptions& options,
+                       const std::string& reindex, Collector& collector,
+                       BagVerification& verified, StoredContent& stored,
+                       std::vector<std::string>& warn) {
+  const std::string md = (bag / kMetadataFileName).string();
+  const auto p = bag / rel;
+  std::error_code ec;
+  const auto s = std::filesystem::file_size(p, ec);
+  if (ec) {
+    warn.push_back(p.string() +
+                   (std::filesystem::exists(p)
+                        ? ": listed in metadata.yaml but unreadable (" + ec.message() + ")"
+                        : ": listed in metadata.yaml but missing (" + reindex +
+                              " rewrites metadata.yaml without it; its messages "
+                              "stay lost)"));
+    stored.all_read = false;
+    ++verified.files_unread;
+    return;
+  }
+  stored.size += s;
+  std::unique_ptr<StorageFileReader> r;
+  try {
+    r = openStorageFile(p, m.storage_identifier, compression);
+  } catch (const std::exception& e) {
+    bool mcap_recoverable = false;
+    warn.push_back(e.what() + openFailureHint(p, m.storage_identifier, reindex, mcap_recoverable));
+    stored.all_read = false;
+    bool recovered = false;
+    if (options.verify && mcap_recoverable) {
+      try {
+        verifyRecovered(p, collector);
+        recovered = true;
+      } catch (const std::exception&) {
+        // Nothing readable: counted as unread below.
+      }
+    }
+    if (!recovered) ++verified.files_unread;
+    return;
+  }
+  for (const auto& w : r->warnings()) warn.push_back(w);
+  // Which compression the messages show when metadata.yaml names another (reindex records it).
+  std::optional<Compression> shown;
+  try {
+    const FileStatistics st = r->statistics();
+    stored.messages += st.message_count;
+    for (const auto& [t, n] : st.topic_message_counts) stored.counts[t] += n;
+    for (const auto& t : r->topics()) stored.types.emplace(t.name, t.type);
+    for (const auto& f : m.files) {
+      if (f.path == rel && f.message_count != st.message_count) {
+        warn.push_back(md + ": files entry " + rel + " has " + std::to_string(f.message_count) +
+                       " messages but the file holds " + std::to_string(st.message_count));
+        stored.metadata_disagrees = true;
+      }
+    }
+    if (m.storage_identifier == "sqlite3") {
+      shown = checkFirstSqliteMessage(static_cast<SqliteReader&>(*r), compression, reindex, stored, warn);
+    }
+  } catch (const InputError& e) {
+    // Rows reindex would have to read the same way (unknown topic ids, timestamps or data
+    // that are no INTEGER / BLOB) or damaged pages.
+    warn.push_back(e.what() + std::string("; `mcvio bag reindex` cannot repair this"));
+    stored.all_read = false;
+  }
+  if (!options.verify) return;
+  if (m.storage_identifier == "sqlite3" && shown && *shown != Compression::None) {
+    // Check the payloads as the frames they are (metadata.yaml's error is reported above).
+    collector.problem(p.string() + ": messages checked as the " + toString(*shown) +
+                      " frames they are; readers go by metadata.yaml until " + reindex +
+                      " rewrites it");
+    static_cast<SqliteReader&>(*r).verify(collector, *shown);
+  } else {
+    r->verify(collector);
+  }
+}
+
+/// metadata.yaml's topics, types and counts against what the storage files hold.
+void compareWithStorage(const BagMetadata& m, const std::string& md, StoredContent& stored,
+                        std::vector<std::string>& warn) {
   for (const auto& t : m.topics_with_message_count) {
-    const auto it = stored_types.find(t.topic.name);
-    if (it != stored_types.end() && !it->second.empty() && it->second != t.topic.type) {
+    const auto it = stored.types.find(t.topic.name);
+    if (it != stored.types.end() && !it->second.empty() && it->second != t.topic.type) {
       warn.push_back(md + ": topic " + t.topic.name + " has type " + t.topic.type +
                      " but the storage's schema is " + it->second);
-      metadata_disagrees = true;
+      stored.metadata_disagrees = true;
     }
-    if (all_read && (stored_counts.count(t.topic.name) ? stored_counts[t.topic.name] : 0) !=
-                        t.message_count) {
+    const auto held = stored.counts.find(t.topic.name);
+    const std::uint64_t count = held == stored.counts.end() ? 0 : held->second;
+    if (stored.all_read && count != t.message_count) {
       warn.push_back(md + ": topic " + t.topic.name + " has " + std::to_string(t.message_count) +
-                     " messages but the storage files hold " +
-                     std::to_string(stored_counts[t.topic.name]));
-      metadata_disagrees = true;
+                     " messages but the storage files hold " + std::to_string(count));
+      stored.metadata_disagrees = true;
     }
   }
-  for (const auto& [name, type] : stored_types) {
+  for (const auto& [name, type] : stored.types) {
     bool listed = false;
     for (const auto& t : m.topics_with_message_count) listed = listed || t.topic.name == name;
     if (!listed) {
       warn.push_back(md + ": topic " + name + " (" + type + ", " +
-                     std::to_string(stored_counts[name]) +
+                     std::to_string(stored.counts[name]) +
                      " messages) is in the storage files but not in metadata.yaml");
-      metadata_disagrees = true;
+      stored.metadata_disagrees = true;
     }
   }
-  if (all_read && stored_messages != m.message_count) {
+  if (stored.all_read && stored.messages != m.message_count) {
     warn.push_back(md + ": message_count is " + std::to_string(m.message_count) +
-                   " but the storage files hold " + std::to_string(stored_messages));
-    metadata_disagrees = true;
+                   " but the storage files hold " + std::to_string(stored.messages));
+    stored.metadata_disagrees = true;
   }
-  if (options.verify && !all_read) {
-    // A file that did not open strictly holds fewer messages than metadata.yaml lists: those
-    // are lost whatever reindex does. Damaged stretches whose topics are unknown were counted
-    // as unreadable already: not again in the total.
-    std::uint64_t missing = 0;
-    for (const auto& t : m.topics_with_message_count) {
-      TopicVerification& v = verified.topics[t.topic.name];
-      const std::uint64_t held = v.readable + v.unreadable;
-      if (held < t.message_count) {
-        v.missing = t.message_count - held;
-        missing += v.missing;
-      }
+}
+
+/// With verify and a file that did not open strictly: the messages metadata.yaml lists that no
+/// file holds any more. They are lost whatever reindex does. Damaged stretches whose topics are
+/// unknown were counted as unreadable already: not again in the total.
+void countMissing(const BagMetadata& m, BagVerification& verified) {
+  std::uint64_t missing = 0;
+  for (const auto& t : m.topics_with_message_count) {
+    TopicVerification& v = verified.topics[t.topic.name];
+    const std::uint64_t held = v.readable + v.unreadable;
+    if (held < t.message_count) {
+      v.missing = t.message_count - held;
+      missing += v.missing;
     }
-    const auto unknown = verified.topics.find("");
-    const std::uint64_t unattributed =
-        unknown == verified.topics.end() ? 0 : unknown->second.unreadable;
-    verified.missing = missing > unattributed ? missing - unattributed : 0;
   }
-  if (metadata_disagrees) {
+  const auto unknown = verified.topics.find("");
+  const std::uint64_t unattributed = unknown == verified.topics.end() ? 0 : unknown->second.unreadable;
+  verified.missing = missing > unattributed ? missing - unattributed : 0;
+}
+
+}  // namespace
+
+std::string bagInfo(const std::filesystem::path& bag, std::vector<std::string>* warnings) {
+  return bagInfo(bag, warnings, BagInfoOptions{});
+}
+
+std::string bagInfo(const std::filesystem::path& bag, std::vector<std::string>* warnings,
+                    const BagInfoOptions& options, BagVerification* verification) {
+  std::vector<std::string> ignored;
+  auto& warn = warnings ? *warnings : ignored;
+  BagVerification local_verification;
+  BagVerification& verified = verification ? *verification : local_verification;
+  verified = BagVerification{};
+  Collector collector(verified, options.progress);
+  if (std::filesystem::is_regular_file(bag)) return singleFileInfo(bag, options, collector, verified, warn);
+
+  const BagMetadata m = readBagMetadata(bag);
+  const std::string md = (bag / kMetadataFileName).string();
+  const std::string reindex = "`mcvio bag reindex " + bag.string() + "`";
+  const Compression compression = checkMetadataFields(m, md, warn);
+  StoredContent stored;
+  for (const auto& rel : m.relative_file_paths) {
+    inspectListedFile(bag, rel, m, compression, options, reindex, collector, verified, stored, warn);
+  }
+  compareWithStorage(m, md, stored, warn);
+  if (options.verify && !stored.all_read) countMissing(m, verified);
+  if (stored.metadata_disagrees) {
     warn.push_back(md + ": " + reindex + " rewrites it from what the storage files hold");
   }
-  std::string text = formatBagInfo(m, size);
+  std::string text = formatBagInfo(m, stored.size);
   if (options.verify) {
     std::ostringstream os;
     reportVerification(verified, os, warn);
