@@ -367,15 +367,24 @@ std::optional<Compression> checkFirstSqliteMessage(SqliteReader& sr, Compression
   return shown;
 }
 
+/// What every storage file of one bag directory is read against.
+struct BagDirectory {
+  const std::filesystem::path& bag;
+  const BagMetadata& m;
+  std::string md;       ///< metadata.yaml's path, for messages
+  std::string reindex;  ///< the `mcvio bag reindex` command for this bag, for hints
+  Compression compression;
+  const BagInfoOptions& options;
+};
+
 /// Opens one storage file metadata.yaml lists (and with verify reads every message), adding
 /// what it holds to `stored` and its problems to `warn`.
-void inspectListedFile(const std::filesystem::path& bag, const std::string& rel, const BagMetadata& m,
-                       Compression compression, const BagInfoOptions& options,
-                       const std::string& reindex, Collector& collector,
-                       BagVerification& verified, StoredContent& stored,
-                       std::vector<std::string>& warn) {
-  const std::string md = (bag / kMetadataFileName).string();
-  const auto p = bag / rel;
+void inspectListedFile(const BagDirectory& dir, const std::string& rel, Collector& collector,
+                       BagVerification& verified, StoredContent& stored, std::vector<std::string>& warn) {
+  const BagMetadata& m = dir.m;
+  const std::string& md = dir.md;
+  const std::string& reindex = dir.reindex;
+  const auto p = dir.bag / rel;
   std::error_code ec;
   const auto s = std::filesystem::file_size(p, ec);
   if (ec) {
@@ -392,13 +401,13 @@ void inspectListedFile(const std::filesystem::path& bag, const std::string& rel,
   stored.size += s;
   std::unique_ptr<StorageFileReader> r;
   try {
-    r = openStorageFile(p, m.storage_identifier, compression);
+    r = openStorageFile(p, m.storage_identifier, dir.compression);
   } catch (const std::exception& e) {
     bool mcap_recoverable = false;
     warn.push_back(e.what() + openFailureHint(p, m.storage_identifier, reindex, mcap_recoverable));
     stored.all_read = false;
     bool recovered = false;
-    if (options.verify && mcap_recoverable) {
+    if (dir.options.verify && mcap_recoverable) {
       try {
         verifyRecovered(p, collector);
         recovered = true;
@@ -425,7 +434,7 @@ void inspectListedFile(const std::filesystem::path& bag, const std::string& rel,
       }
     }
     if (m.storage_identifier == "sqlite3") {
-      shown = checkFirstSqliteMessage(static_cast<SqliteReader&>(*r), compression, reindex, stored, warn);
+      shown = checkFirstSqliteMessage(static_cast<SqliteReader&>(*r), dir.compression, reindex, stored, warn);
     }
   } catch (const InputError& e) {
     // Rows reindex would have to read the same way (unknown topic ids, timestamps or data
@@ -433,7 +442,7 @@ void inspectListedFile(const std::filesystem::path& bag, const std::string& rel,
     warn.push_back(e.what() + std::string("; `mcvio bag reindex` cannot repair this"));
     stored.all_read = false;
   }
-  if (!options.verify) return;
+  if (!dir.options.verify) return;
   if (m.storage_identifier == "sqlite3" && shown && *shown != Compression::None) {
     // Check the payloads as the frames they are (metadata.yaml's error is reported above).
     collector.problem(p.string() + ": messages checked as the " + toString(*shown) +
@@ -515,17 +524,16 @@ std::string bagInfo(const std::filesystem::path& bag, std::vector<std::string>* 
   if (std::filesystem::is_regular_file(bag)) return singleFileInfo(bag, options, collector, verified, warn);
 
   const BagMetadata m = readBagMetadata(bag);
-  const std::string md = (bag / kMetadataFileName).string();
-  const std::string reindex = "`mcvio bag reindex " + bag.string() + "`";
-  const Compression compression = checkMetadataFields(m, md, warn);
+  BagDirectory dir{bag, m, (bag / kMetadataFileName).string(), "`mcvio bag reindex " + bag.string() + "`",
+                   Compression::None, options};
+  const std::string& md = dir.md;
+  dir.compression = checkMetadataFields(m, md, warn);
   StoredContent stored;
-  for (const auto& rel : m.relative_file_paths) {
-    inspectListedFile(bag, rel, m, compression, options, reindex, collector, verified, stored, warn);
-  }
+  for (const auto& rel : m.relative_file_paths) inspectListedFile(dir, rel, collector, verified, stored, warn);
   compareWithStorage(m, md, stored, warn);
   if (options.verify && !stored.all_read) countMissing(m, verified);
   if (stored.metadata_disagrees) {
-    warn.push_back(md + ": " + reindex + " rewrites it from what the storage files hold");
+    warn.push_back(md + ": " + dir.reindex + " rewrites it from what the storage files hold");
   }
   std::string text = formatBagInfo(m, stored.size);
   if (options.verify) {
