@@ -2,7 +2,7 @@
 
 namespace mcvio::conflict {
 
-ConflictIntervalTracker::State ConflictIntervalTracker::update(Timestamp t, bool evidence, bool tested, double score) {
+ConflictIntervalTracker::State ConflictIntervalTracker::update(Timestamp t, bool evidence, bool tested, double score, bool persisted) {
   just_entered_ = just_exited_ = false;
   if (state_ != State::kConflict) {
     recent_.emplace_back(t, tested || evidence ? score : std::numeric_limits<double>::quiet_NaN());
@@ -13,7 +13,7 @@ ConflictIntervalTracker::State ConflictIntervalTracker::update(Timestamp t, bool
     if (evidence) {
       if (run_ == 0) run_start_ = t;
       ++run_;
-      if (run_ >= enter_) {
+      if (run_ >= enter_ || persisted) {
         state_ = State::kConflict;
         interval_start_ = run_start_;
         interval_onset_ = onsetBefore(run_start_);

@@ -255,6 +255,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
 
   const int H = options_.horizon_frames;
   bool evidence = false, whole = false, rotation_agrees = false, tested = false, drift_fired = false;
+  bool drift_persisted = false;  // the drift has stood over its limit for the tracker's enter run
   bool group_seen = false;  // a partial conflict: a moving group next to static landmarks
   bool split_group = false;  // the region split's static side found this frame's partial group
   double score = 0;  // evidence strength: the statistics relative to their thresholds
@@ -381,6 +382,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     if (drift_fired) {
       whole = true;
       evidence = true;
+      drift_persisted = drift_frames_ >= options_.enter_frames;
     }
   } else {
     drift_frames_ = 0;
@@ -438,7 +440,9 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   const bool scored = tested && frames_since_reset_ >= options_.warmup_frames;
   const bool was_active = conflictActive();
   d.report.evidence_score = evidence ? std::max(score, 1.0) : scored ? score : std::numeric_limits<double>::quiet_NaN();
-  const auto state = tracker_.update(t, evidence, tested, d.report.evidence_score);
+  // A drift that fired after standing over its limit for enter_frames frames has had its
+  // hysteresis: the tracker's run would only delay a vehicle's interval by one more frame.
+  const auto state = tracker_.update(t, evidence, tested, d.report.evidence_score, drift_persisted);
   // Elimination acts only around detected conflicts, so a clean sequence keeps every landmark (and
   // the reference's accuracy); the frontend's labels may act on every frame if asked
   // (frontend_labels_outside_conflicts). Inside an IMU-dominated interval every landmark

@@ -30,9 +30,11 @@ class ConflictIntervalTracker {
   /// Feeds one frame; returns the state after it. A frame the detectors could not test (too few
   /// landmarks, no vision-only motion) and without evidence is no sign the conflict is over:
   /// it leaves the state and both runs as they are (an occluder filling the view must not count
-  /// down the exit). `score` is the frame's evidence strength (NaN: not tested).
+  /// down the exit). `score` is the frame's evidence strength (NaN: not tested). `persisted`:
+  /// the evidence's detector has itself seen it on at least `enter_frames` consecutive frames
+  /// (its own run, not one this tracker counted), so the interval opens on this frame.
   State update(Timestamp t, bool evidence, bool tested = true,
-               double score = std::numeric_limits<double>::quiet_NaN());
+               double score = std::numeric_limits<double>::quiet_NaN(), bool persisted = false);
   State state() const { return state_; }
   bool inConflict() const { return state_ == State::kConflict; }
   bool justEntered() const { return just_entered_; }
