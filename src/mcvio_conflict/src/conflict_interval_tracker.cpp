@@ -1,5 +1,8 @@
 #include "mcvio/conflict/conflict_interval_tracker.hpp"
 
+#include <algorithm>
+#include <cstddef>
+
 namespace mcvio::conflict {
 
 ConflictIntervalTracker::State ConflictIntervalTracker::update(Timestamp t, bool evidence, bool tested, double score, bool persisted) {
@@ -13,6 +16,10 @@ ConflictIntervalTracker::State ConflictIntervalTracker::update(Timestamp t, bool
     if (evidence) {
       if (run_ == 0) run_start_ = t;
       ++run_;
+      if (persisted && run_ < enter_) {
+        const std::size_t back = std::min(recent_.size(), static_cast<std::size_t>(std::max(1, enter_)));
+        run_start_ = recent_[recent_.size() - back].first;
+      }
       if (run_ >= enter_ || persisted) {
         state_ = State::kConflict;
         interval_start_ = run_start_;

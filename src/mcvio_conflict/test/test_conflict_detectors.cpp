@@ -331,6 +331,26 @@ TEST(ConflictIntervalTracker, SuddenConflictHasItsOnsetAtTheFirstEvidence) {
   EXPECT_EQ(tr.intervalStart(), 10);
 }
 
+TEST(ConflictIntervalTracker, EvidenceItsDetectorAlreadyHeldOpensTheIntervalAtOnce) {
+  ConflictIntervalTracker tr(2, 3);
+  using S = ConflictIntervalTracker::State;
+  for (Timestamp t = 1; t < 10; ++t) tr.update(t, false, true, 0.3);
+  // A bias drift over its limit since frame 8 fires on frame 10: its own run was the hysteresis.
+  EXPECT_EQ(tr.update(10, true, true, 1.8, /*persisted=*/true), S::kConflict);
+  EXPECT_TRUE(tr.justEntered());
+  EXPECT_EQ(tr.intervalStart(), 9) << "started enter_frames - 1 frames back, as a counted run would";
+  // Without it, the same frame only raises a suspicion.
+  ConflictIntervalTracker counted(2, 3);
+  for (Timestamp t = 1; t < 10; ++t) counted.update(t, false, true, 0.3);
+  EXPECT_EQ(counted.update(10, true, true, 1.8), S::kSuspected);
+  EXPECT_EQ(counted.update(11, true, true, 2.0), S::kConflict);
+  EXPECT_EQ(counted.intervalStart(), 10);
+  // Inside an open interval it changes nothing: the exit still needs its clean frames.
+  EXPECT_EQ(tr.update(11, false, true, 0.2, true), S::kConflict);
+  EXPECT_EQ(tr.update(12, false, true, 0.2), S::kConflict);
+  EXPECT_EQ(tr.update(13, false, true, 0.2), S::kNone);
+}
+
 TEST(LandmarkMotionClassifier, NeedsRepeatedDisagreementAndStaysEliminated) {
   LandmarkMotionClassifier c(2);
   EXPECT_FALSE(c.addVerdict(1, true));

@@ -66,6 +66,7 @@ void MotionConflictMonitor::reset() {
   have_pending_ = false;
   imu_dominated_ = false;
   drift_opened_ = false;
+  entered_on_drift_ = false;
   drift_frames_ = 0;
   fast_drift_frames_ = 0;
   have_reference_bias_ = false;
@@ -469,6 +470,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   d.report.interval_end = tracker_.intervalEnd();
 
   if (state == conflict::ConflictIntervalTracker::State::kNone) split_group_seen_ = false;
+  if (tracker_.justEntered()) entered_on_drift_ = drift_fired;
   if (tracker_.justExited() && imu_dominated_) {
     if (options_.restart_on_exit && !history_.empty()) {
       const std::size_t last = history_.size() - 1;
@@ -506,6 +508,11 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     // whole may fail the propagated test on the same frame (pulled by the group before its tracks
     // are eliminated), but that side is static (a rendered slow object filling 44 % of the view went
     // IMU-dominated for 5.7 s: 0.133 m, selective 0.053 m).
+    // An interval the bias drift opened may go IMU-dominated on a later frame the drift still
+    // fires: a feature-level vehicle whose interval opened one frame sooner, on a frame that saw a
+    // clear split, otherwise stayed selective for its whole ride (1.01 m instead of 0.04 m). Not
+    // one the landmark or frontend tests opened: a drift inside it is the moving group's pull
+    // (the injected overlay's, once its tracks were eliminated).
     const bool clear_split = (d.report.inconsistent_fraction >= options_.auto_split_fraction &&
                               static_count >= options_.auto_min_static_landmarks) ||
                              split_group;
@@ -515,7 +522,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     const bool keep_selective = split_group_seen_ && unmoved_in_view >= options_.auto_min_static_landmarks;
     const bool want_imu = mode == conflict::ResolutionMode::kImu ||
                           (mode == conflict::ResolutionMode::kAuto && whole && enough_tested &&
-                           ((tracker_.justEntered() && !clear_split) ||
+                           (((tracker_.justEntered() || (drift_fired && entered_on_drift_)) && !clear_split) ||
                             (static_count < options_.auto_min_static_landmarks && !keep_selective)));
     if (want_imu) {
       imu_dominated_ = true;

@@ -31,8 +31,9 @@ class ConflictIntervalTracker {
   /// landmarks, no vision-only motion) and without evidence is no sign the conflict is over:
   /// it leaves the state and both runs as they are (an occluder filling the view must not count
   /// down the exit). `score` is the frame's evidence strength (NaN: not tested). `persisted`:
-  /// the evidence's detector has itself seen it on at least `enter_frames` consecutive frames
-  /// (its own run, not one this tracker counted), so the interval opens on this frame.
+  /// the evidence's detector has itself seen it on at least `enter_frames` consecutive frames (a
+  /// run of its own, not one this tracker counted), so the interval opens on this frame, started
+  /// `enter_frames` - 1 frames back as if this tracker had counted that run.
   State update(Timestamp t, bool evidence, bool tested = true,
                double score = std::numeric_limits<double>::quiet_NaN(), bool persisted = false);
   State state() const { return state_; }
