@@ -71,6 +71,8 @@ void ConflictOptions::validate() const {
   require(bias_reference_max_change_sigmas > 0, "bias_reference_max_change_sigmas", "must be > 0",
           bias_reference_max_change_sigmas);
   require(split_chi2_threshold >= 0, "split_chi2_threshold", "must be >= 0 (0: off)", split_chi2_threshold);
+  require(split_min_frames >= 0 && split_min_frames <= 100, "split_min_frames", "must be in [0, 100] (0: off)",
+          split_min_frames);
   require(bias_drift_sigmas >= 0, "bias_drift_sigmas", "must be >= 0 (0: off)", bias_drift_sigmas);
   require(bias_drift_arm_frames >= 0, "bias_drift_arm_frames", "must be >= 0", bias_drift_arm_frames);
   require(bias_drift_min_frames >= 1, "bias_drift_min_frames", "must be >= 1", bias_drift_min_frames);
@@ -151,6 +153,7 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("bias_reference_lag_frames", &o.bias_reference_lag_frames);
   read("bias_reference_max_change_sigmas", &o.bias_reference_max_change_sigmas);
   read("split_chi2_threshold", &o.split_chi2_threshold);
+  read("split_min_frames", &o.split_min_frames);
   read("bias_drift_sigmas", &o.bias_drift_sigmas);
   read("bias_drift_arm_frames", &o.bias_drift_arm_frames);
   read("bias_drift_min_frames", &o.bias_drift_min_frames);

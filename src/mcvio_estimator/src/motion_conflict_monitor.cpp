@@ -259,6 +259,9 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   bool drift_persisted = false;  // the drift has stood over its limit for the tracker's enter run
   bool group_seen = false;  // a partial conflict: a moving group next to static landmarks
   bool split_group = false;  // the region split's static side found this frame's partial group
+  bool split_held = false;   // ... and has on split_min_frames frames in a row (a partial conflict)
+  const int prev_split_run = split_run_;
+  split_run_ = 0;
   double score = 0;  // evidence strength: the statistics relative to their thresholds
   int static_count = 0;
   std::vector<conflict::LandmarkConflictDetector::Verdict> verdicts;
@@ -322,6 +325,8 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
           // whose tracks the frontend already removed; its interval then opened one frame
           // earlier, on the propagated test alone, and went IMU-dominated).
           split_group = split.static_chi2_imu < 0.5 * options_.propagated_chi2_threshold;
+          split_run_ = split_group ? prev_split_run + 1 : 0;
+          split_held = options_.split_min_frames > 0 && split_run_ >= options_.split_min_frames;
           if (against_static.inconsistent > lm.inconsistent && against_static.fraction < options_.whole_view_fraction) {
             lm = std::move(against_static);
             split_group_seen_ = true;
@@ -339,8 +344,9 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
                           std::min(static_cast<double>(lm.inconsistent) / options_.partial_min_count,
                                    lm.fraction / options_.partial_min_fraction)});
       }
-      const bool partial = lm.tested >= options_.min_landmarks_tested && lm.inconsistent >= options_.partial_min_count &&
-                           lm.fraction >= options_.partial_min_fraction && lm.coherence >= options_.min_coherence;
+      const bool partial = split_held ||
+                           (lm.tested >= options_.min_landmarks_tested && lm.inconsistent >= options_.partial_min_count &&
+                            lm.fraction >= options_.partial_min_fraction && lm.coherence >= options_.min_coherence);
       if (lm.tested >= options_.min_landmarks_tested && lm.fraction >= options_.whole_view_fraction) whole = true;
       group_seen = partial;
       evidence = (whole || partial) && frames_since_reset_ >= options_.warmup_frames;

@@ -496,7 +496,7 @@ namespace {
 constexpr int kDriftFrame = 100, kDriftFrames = 160;
 constexpr std::uint64_t kSlowObjectId = 2000;
 
-Scenario slowObjectScene() {
+Scenario slowObjectScene(double speed_mps = 0.2) {
   Scenario sc;
   sc.points = staticPoints(80, 0, 13);
   std::mt19937 rng(17);
@@ -506,7 +506,7 @@ Scenario slowObjectScene() {
     p.id = kSlowObjectId + static_cast<std::uint64_t>(i);
     p.X_W = Eigen::Vector3d(x(rng), y(rng), z(rng));
     p.walk_start_s = frameSeconds(kDriftFrame);
-    p.walk_velocity = Eigen::Vector3d(0, 0.2, 0);
+    p.walk_velocity = Eigen::Vector3d(0, speed_mps, 0);
     sc.points.push_back(p);
   }
   return sc;
@@ -544,6 +544,36 @@ TEST(MotionConflictMonitor, ASlowObjectOnOneSideIsFoundByTheRegionSplit) {
     EXPECT_FALSE(inConflict(without[k])) << "frame " << k;
     EXPECT_EQ(without[k].decision.report.split_chi2, 0.0) << "frame " << k;
   }
+}
+
+TEST(MotionConflictMonitor, ARegionSplitHeldForSplitMinFramesIsAPartialConflict) {
+  // The object at half the speed: its side's motion departs from the other's (chi-square 66-105)
+  // while none of its tracks fails the landmark test on its own.
+  conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
+  o.velocity_sigma_mps = 0.1;
+  ASSERT_EQ(o.split_min_frames, 3);
+  const auto frames = run(slowObjectScene(0.1), o, kDriftFrames);
+  int held = -1;
+  for (int k = kDriftFrame, fired = 0; k < kDriftFrames && held < 0; ++k) {
+    fired = frames[k].decision.report.split_chi2 >= o.split_chi2_threshold ? fired + 1 : 0;
+    if (fired == o.split_min_frames) held = k;
+  }
+  ASSERT_GT(held, kDriftFrame);
+  for (int k = 0; k < held; ++k) ASSERT_FALSE(inConflict(frames[k])) << "frame " << k;
+  EXPECT_EQ(frames[held].decision.report.state, ConflictReport::State::kSuspected);
+  EXPECT_EQ(frames[held].decision.report.landmarks_inconsistent, 0) << "the split alone";
+  EXPECT_EQ(firstFrame(frames, inConflict), held + o.enter_frames - 1);
+  for (int k = held + o.enter_frames - 1; k < kDriftFrames; ++k) {
+    EXPECT_TRUE(inConflict(frames[k])) << "frame " << k;
+    EXPECT_FALSE(frames[k].decision.imu_dominated) << "partial: selective, frame " << k;
+  }
+  // Without it the same run of frames reports nothing.
+  conflict::ConflictOptions off = o;
+  off.split_min_frames = 0;
+  const auto without = run(slowObjectScene(0.1), off, kDriftFrames);
+  for (int k = 0; k < kDriftFrames; ++k) EXPECT_FALSE(inConflict(without[k])) << "frame " << k;
+  for (int k = 0; k <= held; ++k)
+    EXPECT_DOUBLE_EQ(without[k].decision.report.split_chi2, frames[k].decision.report.split_chi2) << "frame " << k;
 }
 
 namespace {

@@ -353,11 +353,12 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_DOUBLE_EQ(c.bias_drift_fast_factor, dc.bias_drift_fast_factor);
   EXPECT_EQ(c.bias_drift_fast_frames, dc.bias_drift_fast_frames);
   EXPECT_DOUBLE_EQ(c.split_chi2_threshold, dc.split_chi2_threshold);
+  EXPECT_EQ(c.split_min_frames, dc.split_min_frames);
   EXPECT_EQ(c.keep_consistent_rotation, dc.keep_consistent_rotation);
   EXPECT_DOUBLE_EQ(c.rotation_chi2_threshold, dc.rotation_chi2_threshold);
   EXPECT_EQ(c.exit_velocity_frames, dc.exit_velocity_frames);
   EXPECT_EQ(c.exit_velocity_frames_after_hold, dc.exit_velocity_frames_after_hold);
-  EXPECT_EQ(root["conflict"].size(), 57u) << "every conflict option appears once";
+  EXPECT_EQ(root["conflict"].size(), 58u) << "every conflict option appears once";
 }
 
 }  // namespace

@@ -155,6 +155,7 @@ class MotionConflictMonitor {
   /// count lets an elevator go IMU-dominated once its doors close (with the frontend's labels the
   /// cabin's tracks are all eliminated; held selective, the window lost every landmark: 11.6 m).
   bool split_group_seen_ = false;
+  int split_run_ = 0;  ///< consecutive frames the split fired beside a side that agrees with the IMU
   conflict::ConflictIntervalTracker tracker_;
   conflict::LandmarkMotionClassifier classifier_;
   conflict::SecondaryMotionTracker secondary_;
