@@ -551,7 +551,7 @@ TEST(MotionConflictMonitor, ARegionSplitHeldForSplitMinFramesIsAPartialConflict)
   // while none of its tracks fails the landmark test on its own.
   conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
   o.velocity_sigma_mps = 0.1;
-  ASSERT_EQ(o.split_min_frames, 3);
+  ASSERT_EQ(o.split_min_frames, 4);
   const auto frames = run(slowObjectScene(0.1), o, kDriftFrames);
   int held = -1;
   for (int k = kDriftFrame, fired = 0; k < kDriftFrames && held < 0; ++k) {
