@@ -5,7 +5,8 @@
 
 namespace mcvio::conflict {
 
-ConflictIntervalTracker::State ConflictIntervalTracker::update(Timestamp t, bool evidence, bool tested, double score, bool persisted) {
+ConflictIntervalTracker::State ConflictIntervalTracker::update(Timestamp t, bool evidence, bool tested, double score,
+                                                               bool persisted) {
   just_entered_ = just_exited_ = false;
   if (state_ != State::kConflict) {
     recent_.emplace_back(t, tested || evidence ? score : std::numeric_limits<double>::quiet_NaN());
