@@ -441,8 +441,8 @@ TEST(ConflictOptions, YamlErrorsNameTheKey) {
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("exit_velocity_frames: 1")), InputError);
   EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("exit_velocity_frames: 5")).exit_velocity_frames, 5);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("exit_velocity_frames_after_hold: 101")), InputError);
-  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("split_min_frames: -1")), InputError);
-  EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("split_min_frames: 0")).split_min_frames, 0);
   EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("exit_velocity_frames_after_hold: 10")).exit_velocity_frames_after_hold,
             10);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("split_min_frames: -1")), InputError);
+  EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("split_min_frames: 0")).split_min_frames, 0);
 }
