@@ -70,6 +70,7 @@ void MotionConflictMonitor::reset() {
   drift_frames_ = 0;
   fast_drift_frames_ = 0;
   have_reference_bias_ = false;
+  last_disagreed_.clear();
   frames_since_reset_ = 0;
   frames_since_imu_exit_ = -1;
   tracker_.reset();
@@ -265,6 +266,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   double score = 0;  // evidence strength: the statistics relative to their thresholds
   int static_count = 0;
   std::vector<conflict::LandmarkConflictDetector::Verdict> verdicts;
+  std::vector<std::uint64_t> moving_disagreeing;  // found moving, and still moving this frame
   const bool selective_active = mode == conflict::ResolutionMode::kSelective || mode == conflict::ResolutionMode::kAuto;
   if (static_cast<int>(history_.size()) >= H) {
     std::size_t r_index = history_.size() - static_cast<std::size_t>(H);
@@ -293,11 +295,15 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     State propagated;
     if (imuMotion(r, t, imu, &imu_rel, &propagated)) {
       const auto pts = collectPoints(r, cam0, cam1);
-      std::vector<conflict::TrackedPoint> still;
-      for (const auto& p : pts)
-        if (!classifier_.isMoving(p.track_id)) still.push_back(p);
+      std::vector<conflict::TrackedPoint> still, moving;
+      for (const auto& p : pts) (classifier_.isMoving(p.track_id) ? moving : still).push_back(p);
       const auto vis = pose_solver_.solve(still, imu_rel);
       if (vis.valid) {
+        // Tracks already found moving, against the motion the others give: those still moving
+        // hold the interval open below, also a slow object the IMU-referenced test never flags.
+        if (!moving.empty())
+          for (const auto& v : landmark_detector_.test(moving, vis.motion).verdicts)
+            if (v.inconsistent) moving_disagreeing.push_back(v.track_id);
         tested = true;
         const auto prop = propagated_detector_.test(imu_rel, vis.motion);
         d.report.propagated_chi2 = prop.chi2;
@@ -396,13 +402,24 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     fast_drift_frames_ = 0;
   }
   // Tracks already found moving and still in view keep a partial conflict open: selective
-  // elimination has taken them out of the test above, so without this the interval would close
+  // elimination has taken them out of the tests above, so without this the interval would close
   // while the pedestrian or the carried object is still there. Only a conflict that is open or
   // suspected: the frontend's labels eliminate tracks outside intervals too, and whether those
-  // are evidence is frontend_evidence's to say.
+  // are evidence is frontend_evidence's to say. Only tracks that disagreed within the horizon
+  // count: a laptop's tracks that slid onto the background as it left the view agree with the
+  // static world (or cannot be tested until the horizon's reference frame has them), and held the
+  // interval of a seed not used for tuning open 2.6 s after the laptop had gone.
+  ++frame_index_;
+  for (const auto& v : verdicts)
+    if (v.inconsistent) last_disagreed_[v.track_id] = frame_index_;
+  for (const auto id : moving_disagreeing) last_disagreed_[id] = frame_index_;
+  for (const auto id : frontend.inconsistent) last_disagreed_[id] = frame_index_;
+  for (auto it = last_disagreed_.begin(); it != last_disagreed_.end();)
+    it = frame_index_ - it->second > H ? last_disagreed_.erase(it) : std::next(it);
   if (selective_active && !imu_dominated_ && frames_since_reset_ >= options_.warmup_frames && conflictActive()) {
     int moving_in_view = 0;
-    for (const auto& obs : cam0) moving_in_view += classifier_.isMoving(obs.first) ? 1 : 0;
+    for (const auto& obs : cam0)
+      moving_in_view += classifier_.isMoving(obs.first) && last_disagreed_.count(obs.first) != 0 ? 1 : 0;
     if (moving_in_view >= options_.hold_moving_min_count &&
         moving_in_view >= options_.hold_moving_min_fraction * static_cast<double>(cam0.size()))
       evidence = true;

@@ -49,9 +49,10 @@ struct ConflictOptions {
   double min_coherence = 0.6;
   double coherence_sigma_m = 0.02;     ///< 3D tolerance floor of the rigid-motion fit
   /// Selective and auto: tracks already found moving keep an open partial conflict open while at
-  /// least this many of them, and this share of the frame's features, are still in view. Stricter
-  /// than the detection: a few static tracks misclassified during a large occlusion stay in view
-  /// after it and would hold the interval for seconds.
+  /// least this many of them, and this share of the frame's features, are still in view and have
+  /// disagreed (a landmark verdict or the frontend's label) within the last horizon_frames.
+  /// Stricter than the detection: a few static tracks misclassified during a large occlusion stay
+  /// in view after it and would hold the interval for seconds.
   int hold_moving_min_count = 8;
   double hold_moving_min_fraction = 0.08;
   /// Frontend detector: the frontend checks every track, stereo or not, against the image motion
