@@ -109,6 +109,8 @@ void ConflictOptions::validate() const {
   require(auto_min_static_landmarks >= 0, "auto_min_static_landmarks", "must be >= 0", auto_min_static_landmarks);
   require(auto_min_tested_landmarks >= 0, "auto_min_tested_landmarks", "must be >= 0",
           auto_min_tested_landmarks);
+  require(thin_view_bias_hold_landmarks >= 0, "thin_view_bias_hold_landmarks", "must be >= 0 (0: off)",
+          thin_view_bias_hold_landmarks);
 }
 
 ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::string& context) {
@@ -170,6 +172,7 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("probation_agreeing_tests", &o.probation_agreeing_tests);
   read("auto_min_static_landmarks", &o.auto_min_static_landmarks);
   read("auto_min_tested_landmarks", &o.auto_min_tested_landmarks);
+  read("thin_view_bias_hold_landmarks", &o.thin_view_bias_hold_landmarks);
   read("auto_split_fraction", &o.auto_split_fraction);
   read("rewind_on_entry", &o.rewind_on_entry);
   read("rewind_frames", &o.rewind_frames);

@@ -445,4 +445,6 @@ TEST(ConflictOptions, YamlErrorsNameTheKey) {
             10);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("split_min_frames: -1")), InputError);
   EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("split_min_frames: 0")).split_min_frames, 0);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("thin_view_bias_hold_landmarks: -1")), InputError);
+  EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("thin_view_bias_hold_landmarks: 0")).thin_view_bias_hold_landmarks, 0);
 }

@@ -71,6 +71,7 @@ void MotionConflictMonitor::reset() {
   fast_drift_frames_ = 0;
   have_reference_bias_ = false;
   last_disagreed_.clear();
+  thin_view_hold_ = false;
   frames_since_reset_ = 0;
   frames_since_imu_exit_ = -1;
   tracker_.reset();
@@ -597,8 +598,22 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     d.rotation_sqrt_information = info.llt().matrixU();
     if (!d.rotation_sqrt_information.allFinite()) d.vision_rotation = false;
   }
+  // A selective interval whose test fell under thin_view_bias_hold_landmarks holds the biases at
+  // the reference (as IMU-dominated does) until it ends: the static landmarks left behind a close
+  // occluder cannot tell the accelerometer bias.
+  if (!tracker_.inConflict()) {
+    thin_view_hold_ = false;
+  } else if (selective_active && !imu_dominated_ && have_reference_bias_ && !thin_view_hold_ &&
+             d.report.landmarks_tested < options_.thin_view_bias_hold_landmarks) {
+    thin_view_hold_ = true;
+    thin_view_bias_ = reference_bias_;
+  }
   d.held_bias = held_bias_;
   d.hold_bias = imu_dominated_ || (frames_since_imu_exit_ >= 0 && frames_since_imu_exit_ < options_.exit_bias_hold_frames);
+  if (thin_view_hold_ && !imu_dominated_) {
+    d.hold_bias = true;
+    d.held_bias = thin_view_bias_;
+  }
   d.suppress_zero_velocity = mode != conflict::ResolutionMode::kReference && tracker_.inConflict();
   switch (mode) {
     case conflict::ResolutionMode::kReference:

@@ -492,6 +492,33 @@ TEST(MotionConflictMonitor, MovingTracksHoldOnlyAboveTheHoldThresholds) {
   for (int k = closed; k < kPedestrianFrames; ++k) EXPECT_FALSE(inConflict(frames[k])) << "frame " << k;
 }
 
+// Behind a close occluder (24 points, all of them in the test: fewer than
+// thin_view_bias_hold_landmarks) auto stays selective and holds the biases at the reference bias
+// on every frame of the interval; with enough landmarks in the test, or with the option off, they
+// stay free.
+TEST(MotionConflictMonitor, AThinViewHoldsTheBiasesThroughASelectiveInterval) {
+  conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
+  const Scenario sc = cabin(24, kCabinFrame);
+  const int n = kCabinFrame + kFramesAfterCabin;
+  const auto frames = run(sc, o, n);
+  const int entry = firstFrame(frames, inConflict);
+  ASSERT_GE(entry, kCabinFrame);
+  ASSERT_LT(entry, n);
+  for (int k = 0; k < n; ++k) {
+    const auto& d = frames[k].decision;
+    ASSERT_FALSE(d.imu_dominated) << "frame " << k;
+    EXPECT_EQ(d.hold_bias, inConflict(frames[k])) << "frame " << k;
+    if (!d.hold_bias) continue;
+    EXPECT_LT((d.held_bias.accel - sc.imu_bias.accel).norm(), 1e-12) << "frame " << k;
+    EXPECT_LT((d.held_bias.gyro - sc.imu_bias.gyro).norm(), 1e-12) << "frame " << k;
+  }
+  o.thin_view_bias_hold_landmarks = 0;
+  for (const auto& f : run(sc, o, n)) EXPECT_FALSE(f.decision.hold_bias);
+  const auto walking = run(pedestrianScene(), withMode(conflict::ResolutionMode::kAuto), kPedestrianFrames);
+  ASSERT_GE(firstFrame(walking, inConflict), kWalkFrame);
+  for (const auto& f : walking) EXPECT_FALSE(f.decision.hold_bias);
+}
+
 namespace {
 
 // A slow object filling the right of the view: 60 points 6-8 m ahead drift sideways at 0.2 m/s
