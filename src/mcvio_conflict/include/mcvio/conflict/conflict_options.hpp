@@ -50,7 +50,8 @@ struct ConflictOptions {
   double coherence_sigma_m = 0.02;     ///< 3D tolerance floor of the rigid-motion fit
   /// Selective and auto: tracks already found moving keep an open partial conflict open while at
   /// least this many of them, and this share of the frame's features, are still in view and have
-  /// disagreed (a landmark verdict or the frontend's label) within the last horizon_frames.
+  /// disagreed (a landmark verdict against the IMU or, once found moving, against the motion the
+  /// other tracks give; or the frontend's label) within the last horizon_frames.
   /// Stricter than the detection: a few static tracks misclassified during a large occlusion stay
   /// in view after it and would hold the interval for seconds.
   int hold_moving_min_count = 8;
