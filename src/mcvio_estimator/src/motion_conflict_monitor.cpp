@@ -410,13 +410,15 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   // count: a laptop's tracks that slid onto the background as it left the view agree with the
   // static world (or cannot be tested until the horizon's reference frame has them), and held the
   // interval of a seed not used for tuning open 2.6 s after the laptop had gone.
-  ++frame_index_;
-  for (const auto& v : verdicts)
-    if (v.inconsistent) last_disagreed_[v.track_id] = frame_index_;
-  for (const auto id : moving_disagreeing) last_disagreed_[id] = frame_index_;
-  for (const auto id : frontend.inconsistent) last_disagreed_[id] = frame_index_;
-  for (auto it = last_disagreed_.begin(); it != last_disagreed_.end();)
-    it = frame_index_ - it->second > H ? last_disagreed_.erase(it) : std::next(it);
+  if (selective_active) {  // only the hold reads it
+    ++frame_index_;
+    for (const auto& v : verdicts)
+      if (v.inconsistent) last_disagreed_[v.track_id] = frame_index_;
+    for (const auto id : moving_disagreeing) last_disagreed_[id] = frame_index_;
+    for (const auto id : frontend.inconsistent) last_disagreed_[id] = frame_index_;
+    for (auto it = last_disagreed_.begin(); it != last_disagreed_.end();)
+      it = frame_index_ - it->second > H ? last_disagreed_.erase(it) : std::next(it);
+  }
   if (selective_active && !imu_dominated_ && frames_since_reset_ >= options_.warmup_frames && conflictActive()) {
     int moving_in_view = 0;
     for (const auto& obs : cam0)

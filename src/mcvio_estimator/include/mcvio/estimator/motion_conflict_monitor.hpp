@@ -156,9 +156,9 @@ class MotionConflictMonitor {
   /// cabin's tracks are all eliminated; held selective, the window lost every landmark: 11.6 m).
   bool split_group_seen_ = false;
   int split_run_ = 0;  ///< consecutive frames the split fired beside a side that agrees with the IMU
-  /// Frame index (frame_index_ counts process() calls) at which each track last disagreed (a
-  /// landmark verdict, the test of moving tracks against the others' motion, the frontend's
-  /// label), kept for horizon_frames frames.
+  /// Frame index (frame_index_ counts process() calls in selective and auto) at which each track
+  /// last disagreed (a landmark verdict, the test of moving tracks against the others' motion,
+  /// the frontend's label), kept for horizon_frames frames.
   std::unordered_map<std::uint64_t, std::int64_t> last_disagreed_;
   std::int64_t frame_index_ = 0;
   conflict::ConflictIntervalTracker tracker_;
