@@ -111,6 +111,8 @@ void ConflictOptions::validate() const {
           auto_min_tested_landmarks);
   require(thin_view_bias_hold_landmarks >= 0, "thin_view_bias_hold_landmarks", "must be >= 0 (0: off)",
           thin_view_bias_hold_landmarks);
+  require(thin_view_bias_hold_usable_tracks >= 0, "thin_view_bias_hold_usable_tracks", "must be >= 0 (0: off)",
+          thin_view_bias_hold_usable_tracks);
 }
 
 ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::string& context) {
@@ -173,6 +175,7 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("auto_min_static_landmarks", &o.auto_min_static_landmarks);
   read("auto_min_tested_landmarks", &o.auto_min_tested_landmarks);
   read("thin_view_bias_hold_landmarks", &o.thin_view_bias_hold_landmarks);
+  read("thin_view_bias_hold_usable_tracks", &o.thin_view_bias_hold_usable_tracks);
   read("auto_split_fraction", &o.auto_split_fraction);
   read("rewind_on_entry", &o.rewind_on_entry);
   read("rewind_frames", &o.rewind_frames);

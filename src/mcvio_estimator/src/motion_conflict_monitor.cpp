@@ -72,6 +72,7 @@ void MotionConflictMonitor::reset() {
   have_reference_bias_ = false;
   last_disagreed_.clear();
   thin_view_hold_ = false;
+  first_seen_.clear();
   frames_since_reset_ = 0;
   frames_since_imu_exit_ = -1;
   tracker_.reset();
@@ -418,6 +419,9 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     for (const auto id : frontend.inconsistent) last_disagreed_[id] = frame_index_;
     for (auto it = last_disagreed_.begin(); it != last_disagreed_.end();)
       it = frame_index_ - it->second > H ? last_disagreed_.erase(it) : std::next(it);
+    for (const auto& obs : cam0) first_seen_.emplace(obs.first, t);
+    for (auto it = first_seen_.begin(); it != first_seen_.end();)
+      it = cam0.count(it->first) == 0 ? first_seen_.erase(it) : std::next(it);
   }
   if (selective_active && !imu_dominated_ && frames_since_reset_ >= options_.warmup_frames && conflictActive()) {
     int moving_in_view = 0;
@@ -600,13 +604,15 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     d.rotation_sqrt_information = info.llt().matrixU();
     if (!d.rotation_sqrt_information.allFinite()) d.vision_rotation = false;
   }
-  // A selective interval whose test fell under thin_view_bias_hold_landmarks holds the biases at
-  // the reference (as IMU-dominated does) until it ends: the static landmarks left behind a close
-  // occluder cannot tell the accelerometer bias.
+  // A selective interval whose test fell under thin_view_bias_hold_landmarks, or whose usable
+  // tracks fell under thin_view_bias_hold_usable_tracks, holds the biases at the reference (as
+  // IMU-dominated does) until it ends: the few static landmarks left behind a close occluder, or
+  // beside a large slow object, cannot tell the accelerometer bias.
   if (!tracker_.inConflict()) {
     thin_view_hold_ = false;
   } else if (selective_active && !imu_dominated_ && have_reference_bias_ && !thin_view_hold_ &&
-             d.report.landmarks_tested < options_.thin_view_bias_hold_landmarks) {
+             (d.report.landmarks_tested < options_.thin_view_bias_hold_landmarks ||
+              usableTracks(cam0) < options_.thin_view_bias_hold_usable_tracks)) {
     thin_view_hold_ = true;
     thin_view_bias_ = reference_bias_;
   }
@@ -632,6 +638,19 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
       break;
   }
   return d;
+}
+
+int MotionConflictMonitor::usableTracks(const ObservationMap& cam0) const {
+  int usable = 0;
+  for (const auto& obs : cam0) {
+    if (classifier_.isMoving(obs.first)) continue;
+    // As onProbation, with the track's first frame standing in for its landmark's creation.
+    const auto seen = first_seen_.find(obs.first);
+    const bool born_in_conflict = seen != first_seen_.end() && seen->second >= active_since_;
+    if (options_.new_landmark_probation && born_in_conflict && !classifier_.isConfirmedStatic(obs.first)) continue;
+    ++usable;
+  }
+  return usable;
 }
 
 bool MotionConflictMonitor::onProbation(std::uint64_t track_id, Timestamp created) const {

@@ -341,6 +341,7 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_EQ(c.probation_agreeing_tests, dc.probation_agreeing_tests);
   EXPECT_EQ(c.exit_bias_hold_frames, dc.exit_bias_hold_frames);
   EXPECT_EQ(c.thin_view_bias_hold_landmarks, dc.thin_view_bias_hold_landmarks);
+  EXPECT_EQ(c.thin_view_bias_hold_usable_tracks, dc.thin_view_bias_hold_usable_tracks);
   EXPECT_EQ(c.partial_min_count, dc.partial_min_count);
   EXPECT_DOUBLE_EQ(c.partial_min_fraction, dc.partial_min_fraction);
   EXPECT_EQ(c.hold_moving_min_count, dc.hold_moving_min_count);
@@ -359,7 +360,7 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_DOUBLE_EQ(c.rotation_chi2_threshold, dc.rotation_chi2_threshold);
   EXPECT_EQ(c.exit_velocity_frames, dc.exit_velocity_frames);
   EXPECT_EQ(c.exit_velocity_frames_after_hold, dc.exit_velocity_frames_after_hold);
-  EXPECT_EQ(root["conflict"].size(), 59u) << "every conflict option appears once";
+  EXPECT_EQ(root["conflict"].size(), 60u) << "every conflict option appears once";
 }
 
 }  // namespace

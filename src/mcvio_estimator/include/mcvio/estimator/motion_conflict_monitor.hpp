@@ -117,6 +117,8 @@ class MotionConflictMonitor {
   };
 
   bool triangulate(const Eigen::Vector2d& n0, const Eigen::Vector2d& n1, double* depth) const;
+  /// Tracks in view the estimate can use in a selective interval: not found moving, not on probation.
+  int usableTracks(const ObservationMap& cam0) const;
   std::vector<conflict::TrackedPoint> collectPoints(const Entry& r, const ObservationMap& cam0,
                                                     const ObservationMap& cam1) const;
   /// IMU-predicted motion from r to t, integrated with the reference bias (see
@@ -161,6 +163,9 @@ class MotionConflictMonitor {
   /// the frontend's label), kept for horizon_frames frames.
   std::unordered_map<std::uint64_t, std::int64_t> last_disagreed_;
   std::int64_t frame_index_ = 0;
+  /// When each track in view was first seen (selective and auto): a track first seen at or after
+  /// active_since_ is on probation in the estimate until confirmed static.
+  std::unordered_map<std::uint64_t, Timestamp> first_seen_;
   conflict::ConflictIntervalTracker tracker_;
   conflict::LandmarkMotionClassifier classifier_;
   conflict::SecondaryMotionTracker secondary_;
@@ -179,7 +184,7 @@ class MotionConflictMonitor {
   double evidence_secondary_speed_ = 0;  ///< fastest along the peak while the detectors had evidence
   Eigen::Vector3d peak_secondary_velocity_ = Eigen::Vector3d::Zero();  ///< fastest in this IMU-dominated interval
   ImuBias held_bias_;
-  bool thin_view_hold_ = false;  ///< see ConflictOptions::thin_view_bias_hold_landmarks
+  bool thin_view_hold_ = false;  ///< see ConflictOptions::thin_view_bias_hold_landmarks and _usable_tracks
   ImuBias thin_view_bias_;       ///< ... the bias it holds
   ImuBias reference_bias_;
   bool have_reference_bias_ = false;
