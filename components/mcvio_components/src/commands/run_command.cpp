@@ -35,8 +35,9 @@ void addRunCommand(CLI::App& app, CommandContext&) {
                   "(default: the shipped share/mcvio_pipeline/config/vio_pipeline.yaml, built in)");
   cmd->add_option("--mode", opt->mode,
                   "motion-conflict handling: reference (detect and report only), imu (IMU-dominated: drop the\n"
-                  "conflicting visual residuals, hold the biases), selective (eliminate the landmarks that move),\n"
-                  "auto (selective while enough static landmarks remain, IMU-dominated otherwise);\n"
+                  "conflicting visual residuals, hold the biases), selective (eliminate the landmarks that move;\n"
+                  "hold the biases too once few static landmarks are left), auto (selective while enough static\n"
+                  "landmarks remain, IMU-dominated otherwise);\n"
                   "default: the config's estimator.conflict.mode, else reference")
       ->check(CLI::IsMember({"reference", "imu", "selective", "auto"}));
   cmd->add_flag("-q,--quiet", *quiet, "no progress bar");
