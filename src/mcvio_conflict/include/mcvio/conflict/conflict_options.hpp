@@ -176,9 +176,9 @@ struct ConflictOptions {
   /// confirmed static (new_landmark_probation keeps those out). A large slow object keeps the test
   /// full of its own tracks while the static ones thin out behind it: on the rendered slow object
   /// of a seed not used for tuning (79 % of the view) 120-170 tracks stayed in the test, 9 were
-  /// left, and the accelerometer bias swung 0.07 m/s^2 (0.082 m; 0.041 m with the hold). 10, 15 and
-  /// 20 measured alike; 25 and 30 held a bias before the object was sorted out (seed 2: 0.023 ->
-  /// 0.093 m). 0: off.
+  /// left, and the accelerometer bias swung 0.07 m/s^2 (0.082 m; 0.042 m with the hold). 10, 15 and
+  /// 20 measured alike; 25 and 30 held a bias before the object was sorted out (25: seed 3 0.046 ->
+  /// 0.072 m; 30: seed 2 0.023 -> 0.093 m). 0: off.
   int thin_view_bias_hold_usable_tracks = 15;
   /// Auto: an interval that opens with at least this share of landmarks disagreeing while
   /// `auto_min_static_landmarks` still agree is a clear split and goes selective.
