@@ -606,7 +606,9 @@ TEST(MotionConflictMonitor, FewUsableTracksBesideASlowObjectHoldTheBiases) {
   for (int k = 0; k < kDriftFrames; ++k) {
     const auto& d = frames[k].decision;
     ASSERT_FALSE(d.imu_dominated) << "frame " << k;
-    if (k >= entry) EXPECT_GE(d.report.landmarks_tested, o.thin_view_bias_hold_landmarks) << "frame " << k;
+    if (k >= entry) {
+      EXPECT_GE(d.report.landmarks_tested, o.thin_view_bias_hold_landmarks) << "frame " << k;
+    }
     if (k >= held) {
       ASSERT_TRUE(inConflict(frames[k])) << "frame " << k;
       EXPECT_TRUE(d.hold_bias) << "frame " << k;
