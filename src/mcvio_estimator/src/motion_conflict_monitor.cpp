@@ -644,10 +644,9 @@ int MotionConflictMonitor::usableTracks(const ObservationMap& cam0) const {
   int usable = 0;
   for (const auto& obs : cam0) {
     if (classifier_.isMoving(obs.first)) continue;
-    // As onProbation, with the track's first frame standing in for its landmark's creation.
+    // The track's first frame stands in for its landmark's creation.
     const auto seen = first_seen_.find(obs.first);
-    const bool born_in_conflict = seen != first_seen_.end() && seen->second >= active_since_;
-    if (options_.new_landmark_probation && born_in_conflict && !classifier_.isConfirmedStatic(obs.first)) continue;
+    if (onProbation(obs.first, seen != first_seen_.end() ? seen->second : 0)) continue;
     ++usable;
   }
   return usable;
