@@ -152,6 +152,7 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("frontend_min_fraction", &o.frontend_min_fraction);
   read("hold_moving_min_count", &o.hold_moving_min_count);
   read("hold_moving_min_fraction", &o.hold_moving_min_fraction);
+  read("frontend_agreement_ends_hold", &o.frontend_agreement_ends_hold);
   read("whole_view_fraction", &o.whole_view_fraction);
   read("warmup_frames", &o.warmup_frames);
   read("bias_reference_lag_frames", &o.bias_reference_lag_frames);

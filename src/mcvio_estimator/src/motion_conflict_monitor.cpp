@@ -410,15 +410,19 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   // are evidence is frontend_evidence's to say. Only tracks that disagreed within the horizon
   // count: a laptop's tracks that slid onto the background as it left the view agree with the
   // static world (or cannot be tested until the horizon's reference frame has them), and held the
-  // interval of a seed not used for tuning open 2.6 s after the laptop had gone.
+  // interval of a seed not used for tuning open 2.6 s after the laptop had gone. The frontend's
+  // check runs on every frame, so its consistent label ends a track's memory at once.
   if (selective_active) {  // only the hold reads it
     ++frame_index_;
     for (const auto& v : verdicts)
       if (v.inconsistent) last_disagreed_[v.track_id] = frame_index_;
     for (const auto id : moving_disagreeing) last_disagreed_[id] = frame_index_;
     for (const auto id : frontend.inconsistent) last_disagreed_[id] = frame_index_;
-    for (auto it = last_disagreed_.begin(); it != last_disagreed_.end();)
-      it = frame_index_ - it->second > H ? last_disagreed_.erase(it) : std::next(it);
+    for (auto it = last_disagreed_.begin(); it != last_disagreed_.end();) {
+      const bool agrees_now = options_.frontend_agreement_ends_hold && it->second != frame_index_ &&
+                              frontend.consistent.count(it->first) != 0;
+      it = frame_index_ - it->second > H || agrees_now ? last_disagreed_.erase(it) : std::next(it);
+    }
     for (const auto& obs : cam0) first_seen_.emplace(obs.first, t);
     for (auto it = first_seen_.begin(); it != first_seen_.end();)
       it = cam0.count(it->first) == 0 ? first_seen_.erase(it) : std::next(it);

@@ -343,7 +343,7 @@ EstimatorOutput SlidingWindowEstimator::addFrame(const FeatureFrame& input) {
   for (const auto& o : input.features) {
     if (o.camera_index != 0 || o.label == TrackLabel::kUnknown) continue;
     ++frontend.checked;
-    if (o.label == TrackLabel::kInconsistent) frontend.inconsistent.insert(o.track_id);
+    (o.label == TrackLabel::kInconsistent ? frontend.inconsistent : frontend.consistent).insert(o.track_id);
   }
   const auto decision = monitor_->process(input.t, cur.cam0, cur.cam1, frontend, imu_);
   out.conflict = decision.report;

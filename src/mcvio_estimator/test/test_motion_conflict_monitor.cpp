@@ -93,7 +93,9 @@ struct Point {
   double appear_s = -kNever;
   double leave_s = kNever;
   bool stereo = true;                  ///< false: seen by cam0 only (too close for a stereo match)
-  bool frontend_inconsistent = false;  ///< the frontend labels it inconsistent while in view
+  bool frontend_inconsistent = false;  ///< the frontend labels it inconsistent while in view,
+  double frontend_inconsistent_from_s = -kNever;  ///< from then on
+  double frontend_consistent_from_s = kNever;     ///< until then
 
   Eigen::Vector3d world(double s) const {
     if (!(s > walk_start_s)) return X_W;
@@ -190,7 +192,9 @@ std::vector<Frame> run(const Scenario& sc, const conflict::ConflictOptions& opti
       }
       if (sc.frontend_labels) {
         ++frontend.checked;
-        if (p.frontend_inconsistent) frontend.inconsistent.insert(p.id);
+        const bool labelled =
+            p.frontend_inconsistent && s >= p.frontend_inconsistent_from_s && s < p.frontend_consistent_from_s;
+        (labelled ? frontend.inconsistent : frontend.consistent).insert(p.id);
       }
     }
     f.decision = monitor.process(t, cam0, cam1, frontend, imu);
@@ -490,6 +494,43 @@ TEST(MotionConflictMonitor, MovingTracksHoldOnlyAboveTheHoldThresholds) {
   while (closed < kPedestrianFrames && inConflict(frames[closed])) ++closed;
   EXPECT_LE(closed, kStandFrame + o.horizon_frames + o.exit_frames + 2);
   for (int k = closed; k < kPedestrianFrames; ++k) EXPECT_FALSE(inConflict(frames[k])) << "frame " << k;
+}
+
+// The frontend checks every track on every frame: once it finds the standing pedestrian's tracks
+// consistent, their earlier disagreements stop holding the interval, which closes when the
+// horizon's landmark test has passed the walk (as without the hold). Off, the memory of the last
+// disagreements holds it open up to a horizon longer.
+TEST(MotionConflictMonitor, TracksTheFrontendFindsConsistentStopHoldingTheInterval) {
+  conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
+  ASSERT_TRUE(o.frontend_agreement_ends_hold) << "the default";
+  Scenario sc = pedestrianScene();
+  sc.frontend_labels = true;
+  for (auto& p : sc.points)
+    if (isPedestrian(p.id)) {
+      p.frontend_inconsistent = true;  // while it walks
+      p.frontend_inconsistent_from_s = frameSeconds(kWalkFrame + 1);
+      p.frontend_consistent_from_s = frameSeconds(kStandFrame);
+    }
+  const int H = o.horizon_frames;
+  const auto closedAfter = [&](const conflict::ConflictOptions& options) {
+    const auto frames = run(sc, options, kPedestrianFrames);
+    const int entry = firstFrame(frames, inConflict);
+    EXPECT_GE(entry, kWalkFrame);
+    EXPECT_LE(entry, kWalkFrame + 4);
+    EXPECT_EQ(frames[kStandFrame - 1].decision.report.frontend_inconsistent, kPedestrianPoints);
+    EXPECT_EQ(frames[kStandFrame].decision.report.frontend_inconsistent, 0);
+    int closed = kStandFrame;
+    while (closed < kPedestrianFrames && inConflict(frames[closed])) ++closed;
+    for (int k = closed; k < kPedestrianFrames; ++k) EXPECT_FALSE(inConflict(frames[k])) << "frame " << k;
+    return closed;
+  };
+  const int closed = closedAfter(o);
+  EXPECT_LE(closed, kStandFrame + H + o.exit_frames + 2);
+  conflict::ConflictOptions off = o;
+  off.frontend_agreement_ends_hold = false;
+  const int closed_off = closedAfter(off);
+  EXPECT_GT(closed_off, kStandFrame + H + o.exit_frames);
+  EXPECT_GT(closed_off, closed);
 }
 
 // Behind a close occluder (24 points, all of them in the test: fewer than

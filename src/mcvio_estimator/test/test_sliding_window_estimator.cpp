@@ -296,6 +296,7 @@ TEST(EstimatorOptions, LoadsFromYamlAndNamesBadKeys) {
   expectError("robust_loss: tukey\n", "robust_loss");
   expectError("imu_windw_size: 4\n", "imu_windw_size");
   expectError("conflict:\n  hold_moving_min_fraction: 0\n", "hold_moving_min_fraction");
+  expectError("conflict:\n  frontend_agreement_ends_hold: maybe\n", "frontend_agreement_ends_hold");
   expectError("conflict:\n  frontend_min_count: 2\n", "frontend_min_count");
   expectError("conflict:\n  frontend_min_fraction: 1.5\n", "frontend_min_fraction");
   expectError("conflict:\n  frontend_evidence: maybe\n", "frontend_evidence");
@@ -346,6 +347,7 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_DOUBLE_EQ(c.partial_min_fraction, dc.partial_min_fraction);
   EXPECT_EQ(c.hold_moving_min_count, dc.hold_moving_min_count);
   EXPECT_DOUBLE_EQ(c.hold_moving_min_fraction, dc.hold_moving_min_fraction);
+  EXPECT_EQ(c.frontend_agreement_ends_hold, dc.frontend_agreement_ends_hold);
   EXPECT_EQ(c.frontend_evidence, dc.frontend_evidence);
   EXPECT_EQ(c.frontend_min_count, dc.frontend_min_count);
   EXPECT_DOUBLE_EQ(c.frontend_min_fraction, dc.frontend_min_fraction);
@@ -360,7 +362,7 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_DOUBLE_EQ(c.rotation_chi2_threshold, dc.rotation_chi2_threshold);
   EXPECT_EQ(c.exit_velocity_frames, dc.exit_velocity_frames);
   EXPECT_EQ(c.exit_velocity_frames_after_hold, dc.exit_velocity_frames_after_hold);
-  EXPECT_EQ(root["conflict"].size(), 60u) << "every conflict option appears once";
+  EXPECT_EQ(root["conflict"].size(), 61u) << "every conflict option appears once";
 }
 
 }  // namespace

@@ -73,6 +73,7 @@ class MotionConflictMonitor {
   /// The frontend's verdicts on one frame's cam0 tracks (FeatureFrame labels).
   struct FrontendVerdicts {
     std::unordered_set<std::uint64_t> inconsistent;  ///< labelled inconsistent
+    std::unordered_set<std::uint64_t> consistent;    ///< labelled consistent
     int checked = 0;                                 ///< labelled consistent or inconsistent
   };
 
@@ -160,7 +161,8 @@ class MotionConflictMonitor {
   int split_run_ = 0;  ///< consecutive frames the split fired beside a side that agrees with the IMU
   /// Frame index (frame_index_ counts process() calls in selective and auto) at which each track
   /// last disagreed (a landmark verdict, the test of moving tracks against the others' motion,
-  /// the frontend's label), kept for horizon_frames frames.
+  /// the frontend's label), kept for horizon_frames frames or until the frontend finds it
+  /// consistent (frontend_agreement_ends_hold).
   std::unordered_map<std::uint64_t, std::int64_t> last_disagreed_;
   std::int64_t frame_index_ = 0;
   /// When each track in view was first seen (selective and auto): a track first seen at or after
