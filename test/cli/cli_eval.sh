@@ -40,6 +40,8 @@ rc=$?
 grep -qF "| Metric | reference | mcvio | mcvio reduction vs reference |" <<<"$out" || fail "no comparison table in: $out"
 grep -qF "| ATE SE(3) RMSE in conflict [m] |" <<<"$out" || fail "no conflict ATE row"
 grep -qE "^\| Detection TPR \(per frame\) \| n/a \| 0\.950 \|" <<<"$out" || fail "TPR of 38/40 frames missing: $(grep TPR <<<"$out")"
+# Labelled 4.00-5.95 s, detected from frame 82 (0.10 s late) to the label's last frame.
+grep -qF "| mcvio | 4.00 - 5.95 | 38/40 | 0.10 | 0.00 |" <<<"$out" || fail "interval timing missing: $(grep -A4 'per labelled interval' <<<"$out")"
 for f in eval.json eval.md trajectory_top.png trajectory_side.png error_over_time.png roc.png ground_truth.tum mcvio_aligned_se3.tum; do
   [ -s "$tmp/report/$f" ] || fail "missing or empty $f"
 done

@@ -189,6 +189,7 @@ std::string BenchmarkReportWriter::toJson(const BenchmarkResult& result) {
                        {{"tp", r.tp}, {"fp", r.fp}, {"tn", r.tn}, {"fn", r.fn},
                         {"tpr", number(r.tpr)}, {"fpr", number(r.fpr)},
                         {"hindsight_tpr", number(r.hindsight_tpr)}, {"hindsight_fpr", number(r.hindsight_fpr)},
+                        {"onset_delay_s", number(r.onset_delay_s)}, {"release_lag_s", number(r.release_lag_s)},
                         {"roc_best_tpr_at_max_fpr", number(r.roc_best_tpr)}, {"roc_best_score", r.roc_best_score},
                         {"auc_propagated_chi2_ratio", number(r.auc_propagated)},
                         {"auc_inconsistent_fraction", number(r.auc_fraction)},
@@ -280,6 +281,28 @@ std::string BenchmarkReportWriter::toMarkdown(const BenchmarkResult& result) {
     }
   }
   md << "\n";
+
+  bool timing_header = false;
+  for (const auto& sr : result.sequences) {
+    if (sr.sequence.sweep || !sr.sequence.hasConflict()) continue;
+    for (const auto& r : sr.runs) {
+      if (!timing_header) {
+        md << "## Detection timing (the labelled interval)\n\n"
+           << "Onset delay: from the first labelled frame to the first detected one. Release lag: from the last "
+              "labelled frame to the end of that detection (negative: it let go before the motion ended). A TPR of "
+           << fmt("%g", o.targets.min_tpr) << " leaves " << fmt("%g", 100.0 * (1.0 - o.targets.min_tpr))
+           << " % of the labelled frames to miss, onset and end together (the last column); each frame of positive "
+              "release lag is a false positive.\n\n"
+           << "| Sequence | Mode | TPR | Onset delay [s] | Release lag [s] | FPR | Misses a TPR of " << fmt("%g", o.targets.min_tpr)
+           << " allows [s] |\n|---|---|---|---|---|---|---|\n";
+        timing_header = true;
+      }
+      md << "| " << sr.sequence.name << " | " << r.mode << " | " << fmt("%.3f", r.tpr) << " | " << fmt("%.2f", r.onset_delay_s)
+         << " | " << fmt("%+.2f", r.release_lag_s) << " | " << fmt("%.4f", r.fpr) << " | "
+         << fmt("%.2f", (1.0 - o.targets.min_tpr) * sr.sequence.conflict_duration_s) << " |\n";
+    }
+  }
+  if (timing_header) md << "\n";
 
   bool ride_header = false;
   for (const auto& sr : result.sequences) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
 
 namespace mcvio::evaluation {
@@ -14,6 +15,39 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 double ratio(std::size_t a, std::size_t b) {
   return b == 0 ? kNaN : static_cast<double>(a) / static_cast<double>(b);
+}
+
+/// Onset delay and release lag of every labelled interval, from the matched frames of `r`.
+std::vector<IntervalDetection> detectIntervals(const DetectionResult& r, const ConflictLabelTimeline& labels,
+                                               double tolerance_s) {
+  // Frames in time order (a log built in memory need not be sorted).
+  std::vector<std::size_t> order(r.times.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return r.times[a] < r.times[b]; });
+  const Timestamp tolerance = fromSeconds(tolerance_s);
+  std::vector<IntervalDetection> out;
+  for (const TimeInterval& iv : labels.conflictIntervals()) {
+    IntervalDetection d;
+    d.label = iv;
+    std::optional<std::size_t> first, last;  // positions in `order`
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      const std::size_t i = order[k];
+      if (!r.labelled[i] || r.times[i] < iv.start - tolerance || r.times[i] > iv.end + tolerance) continue;
+      ++d.frames;
+      if (!r.detected[i]) continue;
+      ++d.detected_frames;
+      if (!first) first = k;
+      last = k;
+    }
+    if (first) {
+      d.onset_delay_s = toSeconds(r.times[order[*first]] - iv.start);
+      std::size_t k = *last;
+      while (k + 1 < order.size() && r.detected[order[k + 1]]) ++k;
+      d.release_lag_s = toSeconds(r.times[order[k]] - iv.end);
+    }
+    out.push_back(d);
+  }
+  return out;
 }
 
 }  // namespace
@@ -115,6 +149,7 @@ DetectionResult evaluateDetection(const DetectorLog& log, const ConflictLabelTim
     ratio_scores.push_back(row.propagatedRatio());
     fraction_scores.push_back(row.inconsistent_fraction);
   }
+  r.intervals = detectIntervals(r, labels, options.label_tolerance_s);
   r.labels_without_row = static_cast<std::size_t>(std::count(label_seen.begin(), label_seen.end(), false));
   if (log.hasColumn("propagated_chi2")) {
     r.roc.push_back(computeRoc(ratio_scores, r.labelled, "propagated_chi2_ratio"));

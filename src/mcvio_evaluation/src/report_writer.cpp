@@ -71,6 +71,14 @@ json asJson(const DetectionResult& d) {
                    {"skipped", c.skipped},
                    {"points", points}});
   }
+  json intervals = json::array();
+  for (const auto& iv : d.intervals)
+    intervals.push_back({{"label_start_ns", iv.label.start},
+                         {"label_end_ns", iv.label.end},
+                         {"frames", iv.frames},
+                         {"detected_frames", iv.detected_frames},
+                         {"onset_delay_s", number(iv.onset_delay_s)},
+                         {"release_lag_s", number(iv.release_lag_s)}});
   return {{"frames", d.frames},
           {"rows_without_label", d.rows_without_label},
           {"labels_without_row", d.labels_without_row},
@@ -89,6 +97,7 @@ json asJson(const DetectionResult& d) {
                                                {"tpr", number(d.hindsight.tpr())},
                                                {"fpr", number(d.hindsight.fpr())}}
                                         : json(nullptr)},
+          {"intervals", intervals},
           {"roc", roc}};
 }
 
@@ -298,6 +307,25 @@ std::string ReportWriter::toMarkdown(const EvaluationReport& report) {
       md << " " << (row.is_error ? percent(relativeReduction(row.value(*base), row.value(*e))) : "") << " |";
     }
     md << "\n";
+  }
+  if (report.labels && !report.labels->labels().empty()) {
+    bool header = false;
+    const Timestamp t0 = report.labels->labels().front().t;
+    for (const auto& e : report.estimates) {
+      if (!e.detection) continue;
+      for (const auto& iv : e.detection->intervals) {
+        if (!header) {
+          md << "\nDetection per labelled interval (onset delay: first detected frame after the label starts; "
+                "release lag: end of that detection after the label ends, negative if it let go before; "
+                "n/a: never detected):\n\n"
+             << "| Run | Labelled [s] | Frames detected | Onset delay [s] | Release lag [s] |\n|---|---|---:|---:|---:|\n";
+          header = true;
+        }
+        md << "| " << e.name << " | " << fixed(toSeconds(iv.label.start - t0), 2) << " - "
+           << fixed(toSeconds(iv.label.end - t0), 2) << " | " << iv.detected_frames << "/" << iv.frames << " | "
+           << fixed(iv.onset_delay_s, 2) << " | " << fixed(iv.release_lag_s, 2) << " |\n";
+      }
+    }
   }
   // Decided on the ground truth, so the same for every run.
   std::string from_orientations;

@@ -249,6 +249,24 @@ TEST(BenchmarkSuite, ShortElevatorRunEndToEnd) {
   const std::string md = BenchmarkReportWriter::toMarkdown(result);
   EXPECT_NE(md.find("| elevator_s1 | imu |"), std::string::npos);
   EXPECT_NE(md.find("## Elevator ride"), std::string::npos);
+  // Detection timing: every mode of the conflict sequence, none of the sweep's.
+  const auto timing_at = md.find("## Detection timing");
+  ASSERT_NE(timing_at, std::string::npos);
+  EXPECT_NE(md.find("| elevator_s1 | reference | ", timing_at), std::string::npos);
+  EXPECT_NE(md.find("| elevator_s1 | imu | ", timing_at), std::string::npos);
+  const std::string timing = md.substr(timing_at, md.find("\n## ", timing_at + 1) - timing_at);
+  std::size_t rows = 0;
+  for (auto at = timing.find("\n| "); at != std::string::npos; at = timing.find("\n| ", at + 1)) ++rows;
+  EXPECT_EQ(rows, 3u) << timing;  // the header and the two modes of elevator_s1; the sweep has no conflict
+  // The imu run's detector: its onset delay is within the interval when it detected at all.
+  const auto& det = j["sequences"][0]["runs"][1]["detection"];
+  if (sr.runs[1].tp > 0) {
+    EXPECT_GE(det["onset_delay_s"].get<double>(), 0.0);
+    EXPECT_LT(det["onset_delay_s"].get<double>(), o.conflict_duration_s);
+    EXPECT_DOUBLE_EQ(det["release_lag_s"].get<double>(), sr.runs[1].release_lag_s);
+  } else {
+    EXPECT_TRUE(det["onset_delay_s"].is_null());
+  }
   EXPECT_NE(md.find("| vehicle | 0 |"), std::string::npos);
   EXPECT_EQ(md.find("## Clean floor"), std::string::npos) << "no floor was measured";
   // A clean floor at half the reference's error: at most 50 % reduction is reachable.

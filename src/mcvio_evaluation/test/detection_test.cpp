@@ -109,6 +109,44 @@ TEST(Detection, TprFprPerFrameOnConstructedLabels) {
   EXPECT_EQ(s.counts.fn, 0u);
 }
 
+TEST(Detection, OnsetDelayAndReleaseLagPerLabelledInterval) {
+  // 30 frames, three labelled intervals: 3..6, 12..16, 22..24.
+  std::vector<dataset::ConflictLabel> labels;
+  for (int i = 0; i < 30; ++i) {
+    dataset::ConflictLabel l;
+    l.t = kT0 + i * kFrame;
+    l.in_conflict = (i >= 3 && i <= 6) || (i >= 12 && i <= 16) || (i >= 22 && i <= 24);
+    l.motion = l.in_conflict ? "vehicle" : "none";
+    labels.push_back(l);
+  }
+  // The first two frames late and three frames past the end; the second two frames late and one
+  // frame early; the third never (a detection after it, at 26, belongs to no interval).
+  std::vector<DetectorRecord> rows;
+  for (int i = 0; i < 30; ++i) {
+    const bool on = (i >= 5 && i <= 9) || (i >= 14 && i <= 15) || i == 26;
+    rows.push_back(row(i, on ? DetectorRecord::State::kConflict : DetectorRecord::State::kNone, 0.1, 0.0));
+  }
+  // Rows given out of time order are put in order first.
+  std::swap(rows[8], rows[20]);
+  const DetectionResult r =
+      evaluateDetection(DetectorLog(rows, {"timestamp_ns", "state"}, "c.csv"), ConflictLabelTimeline(labels, "l.csv"));
+  ASSERT_EQ(r.intervals.size(), 3u);
+  const double frame_s = toSeconds(kFrame);
+  EXPECT_EQ(r.intervals[0].frames, 4u);
+  EXPECT_EQ(r.intervals[0].detected_frames, 2u);
+  EXPECT_NEAR(r.intervals[0].onset_delay_s, 2 * frame_s, 1e-5);
+  EXPECT_NEAR(r.intervals[0].release_lag_s, 3 * frame_s, 1e-5);
+  EXPECT_EQ(r.intervals[1].detected_frames, 2u);
+  EXPECT_NEAR(r.intervals[1].onset_delay_s, 2 * frame_s, 1e-5);
+  EXPECT_NEAR(r.intervals[1].release_lag_s, -1 * frame_s, 1e-5);
+  EXPECT_EQ(r.intervals[2].frames, 3u);
+  EXPECT_EQ(r.intervals[2].detected_frames, 0u);
+  EXPECT_TRUE(std::isnan(r.intervals[2].onset_delay_s));
+  EXPECT_TRUE(std::isnan(r.intervals[2].release_lag_s));
+  EXPECT_EQ(r.intervals[2].label.start, kT0 + 22 * kFrame);
+  EXPECT_EQ(r.intervals[2].label.end, kT0 + 24 * kFrame);
+}
+
 TEST(Detection, UnmatchedRowsAndLabelsAreCounted) {
   std::vector<DetectorRecord> rows;
   for (int i = 3; i < 20; ++i) rows.push_back(row(i, DetectorRecord::State::kNone, 0.1, 0.0));

@@ -1,5 +1,6 @@
 #pragma once
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -48,6 +49,23 @@ struct RocCurve {
 RocCurve computeRoc(const std::vector<double>& scores, const std::vector<bool>& positive,
                     const std::string& score_name);
 
+/// How one labelled conflict interval was detected online: how late the detector came on and how
+/// long it stayed on after the motion ended. Missed frames at the onset cost TPR, frames after
+/// the end cost FPR, so these two explain a per-frame figure in seconds.
+struct IntervalDetection {
+  static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  TimeInterval label;               ///< first to last labelled frame
+  std::size_t frames = 0;           ///< detector rows matched to its labelled frames
+  std::size_t detected_frames = 0;  ///< ... of them detected
+  /// From the label's first frame to the first detected frame inside the interval [s]; NaN if
+  /// the interval was never detected.
+  double onset_delay_s = kNaN;
+  /// The last frame of the detection that is on at the interval's last detected frame (followed
+  /// past the interval's end while it stays on), minus the label's last frame [s]: > 0 the
+  /// detector stayed on after the motion ended, < 0 it let go before. NaN if never detected.
+  double release_lag_s = kNaN;
+};
+
 /// A run's detector against the labels.
 struct DetectionResult {
   ConfusionCounts counts;
@@ -61,6 +79,8 @@ struct DetectionResult {
   /// evidence built up, end at the last frame with evidence), when the log has them.
   bool has_hindsight = false;
   ConfusionCounts hindsight;
+  /// One entry per labelled interval (ConflictLabelTimeline::conflictIntervals()), in time order.
+  std::vector<IntervalDetection> intervals;
   /// Per matched frame, in time order (for plots).
   std::vector<Timestamp> times;
   std::vector<bool> labelled;
