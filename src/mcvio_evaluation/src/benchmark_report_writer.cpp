@@ -287,9 +287,9 @@ std::string BenchmarkReportWriter::toMarkdown(const BenchmarkResult& result) {
     if (sr.sequence.sweep || !sr.sequence.hasConflict()) continue;
     for (const auto& r : sr.runs) {
       if (!timing_header) {
-        md << "## Detection timing (the labelled interval)\n\n"
+        md << "## Detection timing (the labelled span)\n\n"
            << "Onset delay: from the first labelled frame to the first detected one. Release lag: from the last "
-              "labelled frame to the end of that detection (negative: it let go before the motion ended). A TPR of "
+              "labelled frame to the end of the last detection (negative: it let go before the motion ended). A TPR of "
            << fmt("%g", o.targets.min_tpr) << " leaves " << fmt("%g", 100.0 * (1.0 - o.targets.min_tpr))
            << " % of the labelled frames to miss, onset and end together (the last column); each frame of positive "
               "release lag is a false positive.\n\n"

@@ -276,10 +276,9 @@ BenchmarkSequenceResult BenchmarkSuite::evaluateSequence(const BenchmarkSequence
           run.hindsight_tpr = d.hindsight.tpr();
           run.hindsight_fpr = d.hindsight.fpr();
         }
-        if (!d.intervals.empty()) {
-          run.onset_delay_s = d.intervals.front().onset_delay_s;
-          run.release_lag_s = d.intervals.front().release_lag_s;
-        }
+        const IntervalDetection span = d.labelledSpan();
+        run.onset_delay_s = span.onset_delay_s;
+        run.release_lag_s = span.release_lag_s;
         for (const auto& roc : d.roc) {
           if (roc.score == "propagated_chi2_ratio") run.auc_propagated = roc.auc;
           if (roc.score == "inconsistent_fraction") run.auc_fraction = roc.auc;

@@ -107,6 +107,27 @@ RocCurve computeRoc(const std::vector<double>& scores, const std::vector<bool>& 
   return roc;
 }
 
+IntervalDetection DetectionResult::labelledSpan() const {
+  IntervalDetection span;
+  if (intervals.empty()) return span;
+  span.label = {intervals.front().label.start, intervals.back().label.end};
+  for (const auto& iv : intervals) {
+    span.frames += iv.frames;
+    span.detected_frames += iv.detected_frames;
+  }
+  for (const auto& iv : intervals) {
+    if (std::isnan(iv.onset_delay_s)) continue;
+    span.onset_delay_s = toSeconds(iv.label.start - span.label.start) + iv.onset_delay_s;
+    break;
+  }
+  for (auto iv = intervals.rbegin(); iv != intervals.rend(); ++iv) {
+    if (std::isnan(iv->release_lag_s)) continue;
+    span.release_lag_s = iv->release_lag_s - toSeconds(span.label.end - iv->label.end);
+    break;
+  }
+  return span;
+}
+
 DetectionResult evaluateDetection(const DetectorLog& log, const ConflictLabelTimeline& labels,
                                   const DetectionOptions& options) {
   options.validate();

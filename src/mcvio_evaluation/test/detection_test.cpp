@@ -145,6 +145,24 @@ TEST(Detection, OnsetDelayAndReleaseLagPerLabelledInterval) {
   EXPECT_TRUE(std::isnan(r.intervals[2].release_lag_s));
   EXPECT_EQ(r.intervals[2].label.start, kT0 + 22 * kFrame);
   EXPECT_EQ(r.intervals[2].label.end, kT0 + 24 * kFrame);
+
+  // As one span (3..24): detected from frame 5, the last detection inside ends at frame 15.
+  const IntervalDetection span = r.labelledSpan();
+  EXPECT_EQ(span.label.start, kT0 + 3 * kFrame);
+  EXPECT_EQ(span.label.end, kT0 + 24 * kFrame);
+  EXPECT_EQ(span.frames, 12u);
+  EXPECT_EQ(span.detected_frames, 4u);
+  EXPECT_NEAR(span.onset_delay_s, 2 * frame_s, 1e-5);
+  EXPECT_NEAR(span.release_lag_s, -9 * frame_s, 1e-5);
+  // A first interval never detected (a label flickering on before the real onset): the onset
+  // counts from it to the first detection of the next one.
+  DetectionResult flicker;
+  flicker.intervals = {r.intervals[2], r.intervals[2]};
+  flicker.intervals[0].label = {kT0 + 1 * kFrame, kT0 + 1 * kFrame};
+  flicker.intervals[1] = r.intervals[1];
+  EXPECT_NEAR(flicker.labelledSpan().onset_delay_s, 13 * frame_s, 1e-5);
+  EXPECT_NEAR(flicker.labelledSpan().release_lag_s, -1 * frame_s, 1e-5);
+  EXPECT_TRUE(std::isnan(DetectionResult{}.labelledSpan().onset_delay_s));
 }
 
 TEST(Detection, UnmatchedRowsAndLabelsAreCounted) {

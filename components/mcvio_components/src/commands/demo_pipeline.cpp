@@ -419,7 +419,7 @@ void DemoPipeline::evaluate(const Sequence& s, SequenceResult& r) const {
       r.mcvio_hindsight_tpr = mc->detection->hindsight.tpr();
       r.mcvio_hindsight_fpr = mc->detection->hindsight.fpr();
     }
-    if (!mc->detection->intervals.empty()) r.mcvio_onset_delay_s = mc->detection->intervals.front().onset_delay_s;
+    r.mcvio_onset_delay_s = mc->detection->labelledSpan().onset_delay_s;
   }
 }
 

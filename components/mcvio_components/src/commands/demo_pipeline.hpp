@@ -50,7 +50,7 @@ class DemoPipeline {
     /// Against the conflict intervals in hindsight (NaN when the log has none).
     double mcvio_hindsight_tpr = std::numeric_limits<double>::quiet_NaN();
     double mcvio_hindsight_fpr = std::numeric_limits<double>::quiet_NaN();
-    /// Seconds from the labelled interval's start to MC-VIO's first detection (NaN: never, or no labels).
+    /// Seconds from the first labelled frame to MC-VIO's first detection (NaN: never, or no labels).
     double mcvio_onset_delay_s = std::numeric_limits<double>::quiet_NaN();
     bool rendered = false;                                ///< false: reused from a previous run
     double render_s = 0, dds_s = 0, reference_s = 0;      ///< wall time of each step

@@ -72,8 +72,9 @@ struct BenchmarkRun {
   double tpr = kNaN, fpr = kNaN;
   /// The same against the run's conflict intervals in hindsight (DetectionResult::hindsight).
   double hindsight_tpr = kNaN, hindsight_fpr = kNaN;
-  /// Of the sequence's labelled interval (the first, if several; IntervalDetection): seconds from
-  /// its start to the first detection, and from its end to the end of that detection.
+  /// Over the sequence's labelled span (DetectionResult::labelledSpan): seconds from its first
+  /// labelled frame to the first detection, and from its last labelled frame to the end of the last
+  /// detection.
   double onset_delay_s = kNaN, release_lag_s = kNaN;
   /// ROC of the detector scores: the best TPR with FPR <= targets.max_fpr and its score name.
   double roc_best_tpr = kNaN;

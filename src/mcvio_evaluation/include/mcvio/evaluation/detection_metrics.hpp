@@ -81,6 +81,12 @@ struct DetectionResult {
   ConfusionCounts hindsight;
   /// One entry per labelled interval (ConflictLabelTimeline::conflictIntervals()), in time order.
   std::vector<IntervalDetection> intervals;
+  /// All labelled intervals as one, from the first one's start to the last one's end: onset at the
+  /// first detection inside any of them, release at the end of the last such detection. For a
+  /// sequence with one conflicting motion whose label flickers at the edges (a pedestrian's first
+  /// pixels), so a one-frame label before the real onset does not stand for the whole. Default
+  /// (NaN, no frames) without labelled intervals.
+  IntervalDetection labelledSpan() const;
   /// Per matched frame, in time order (for plots).
   std::vector<Timestamp> times;
   std::vector<bool> labelled;
