@@ -41,11 +41,13 @@ ConflictIntervalTracker::State ConflictIntervalTracker::update(Timestamp t, bool
   }
   if (evidence) last_evidence_ = t;
   run_ = evidence ? 0 : run_ + 1;
-  if (run_ >= exit_) {
+  quiet_run_ = !evidence && score < exit_quiet_score_ ? quiet_run_ + 1 : 0;  // NaN: not quiet
+  if (run_ >= exit_ || (quiet_exit_allowed_ && exit_quiet_frames_ > 0 && quiet_run_ >= exit_quiet_frames_)) {
     state_ = State::kNone;
     interval_end_ = last_evidence_;
     just_exited_ = true;
     run_ = 0;
+    quiet_run_ = 0;
   }
   return state_;
 }
@@ -68,6 +70,7 @@ Timestamp ConflictIntervalTracker::onsetBefore(Timestamp start) const {
 void ConflictIntervalTracker::reset() {
   state_ = State::kNone;
   run_ = 0;
+  quiet_run_ = 0;
   just_entered_ = just_exited_ = false;
   recent_.clear();
 }

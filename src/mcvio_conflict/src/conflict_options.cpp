@@ -81,6 +81,8 @@ void ConflictOptions::validate() const {
   require(bias_drift_fast_frames >= 1, "bias_drift_fast_frames", "must be >= 1", bias_drift_fast_frames);
   require(enter_frames >= 1, "enter_frames", "must be >= 1", enter_frames);
   require(exit_frames >= 1, "exit_frames", "must be >= 1", exit_frames);
+  require(exit_quiet_frames >= 0, "exit_quiet_frames", "must be >= 0 (0: off)", exit_quiet_frames);
+  require(exit_quiet_score > 0 && exit_quiet_score < 1, "exit_quiet_score", "must be in (0, 1)", exit_quiet_score);
   require(onset_min_score > 0 && onset_min_score <= 1, "onset_min_score", "must be in (0, 1]", onset_min_score);
   require(onset_lookback_frames >= 0 && onset_lookback_frames <= 400, "onset_lookback_frames", "must be in [0, 400]",
           onset_lookback_frames);
@@ -166,6 +168,8 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("bias_drift_fast_frames", &o.bias_drift_fast_frames);
   read("enter_frames", &o.enter_frames);
   read("exit_frames", &o.exit_frames);
+  read("exit_quiet_frames", &o.exit_quiet_frames);
+  read("exit_quiet_score", &o.exit_quiet_score);
   read("onset_min_score", &o.onset_min_score);
   read("onset_lookback_frames", &o.onset_lookback_frames);
   read("selective_strikes", &o.selective_strikes);

@@ -351,6 +351,47 @@ TEST(ConflictIntervalTracker, EvidenceItsDetectorAlreadyHeldOpensTheIntervalAtOn
   EXPECT_EQ(tr.update(13, false, true, 0.2), S::kNone);
 }
 
+TEST(ConflictIntervalTracker, QuietFramesCloseAPlainlyEndedConflictSooner) {
+  using S = ConflictIntervalTracker::State;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  // exit_frames 5, or 2 clean frames in a row under 0.6.
+  ConflictIntervalTracker tr(2, 5, 0.1, 60, 2, 0.6);
+  tr.update(1, true, true, 3.0);
+  ASSERT_EQ(tr.update(2, true, true, 3.0), S::kConflict);
+  // A vehicle that has stopped: its score falls away.
+  EXPECT_EQ(tr.update(3, false, true, 0.74), S::kConflict);
+  EXPECT_EQ(tr.update(4, false, true, 0.49), S::kConflict);
+  EXPECT_EQ(tr.update(5, false, true, 0.34), S::kNone);
+  EXPECT_TRUE(tr.justExited());
+  EXPECT_EQ(tr.intervalEnd(), 2);
+  // A cabin braking gently: clean frames, but over the quiet score until the last; evidence,
+  // an untested frame or a frame over the score break a quiet run.
+  tr.update(10, true, true, 3.0);
+  ASSERT_EQ(tr.update(11, true, true, 3.0), S::kConflict);
+  EXPECT_EQ(tr.update(12, false, true, 0.5), S::kConflict);
+  EXPECT_EQ(tr.update(13, true, true, 1.2), S::kConflict);
+  EXPECT_EQ(tr.update(14, false, true, 0.5), S::kConflict);
+  EXPECT_EQ(tr.update(15, false, true, 0.7), S::kConflict);
+  EXPECT_EQ(tr.update(16, false, true, 0.5), S::kConflict);
+  EXPECT_EQ(tr.update(17, false, false, nan), S::kConflict) << "untested: neither counts nor breaks";
+  EXPECT_EQ(tr.update(18, false, true, nan), S::kConflict) << "a NaN score is not quiet";
+  EXPECT_EQ(tr.update(19, false, true, 0.55), S::kNone) << "the fifth clean tested frame";
+  EXPECT_EQ(tr.intervalEnd(), 13);
+  // Off (0 frames): the same quiet frames wait for exit_frames.
+  ConflictIntervalTracker off(2, 5);
+  off.update(1, true, true, 3.0);
+  off.update(2, true, true, 3.0);
+  for (Timestamp t = 3; t < 7; ++t) EXPECT_EQ(off.update(t, false, true, 0.1), S::kConflict);
+  EXPECT_EQ(off.update(7, false, true, 0.1), S::kNone);
+  // Not allowed by the caller: likewise.
+  ConflictIntervalTracker held(2, 5, 0.1, 60, 2, 0.6);
+  held.setQuietExitAllowed(false);
+  held.update(1, true, true, 3.0);
+  held.update(2, true, true, 3.0);
+  for (Timestamp t = 3; t < 7; ++t) EXPECT_EQ(held.update(t, false, true, 0.1), S::kConflict);
+  EXPECT_EQ(held.update(7, false, true, 0.1), S::kNone);
+}
+
 TEST(LandmarkMotionClassifier, NeedsRepeatedDisagreementAndStaysEliminated) {
   LandmarkMotionClassifier c(2);
   EXPECT_FALSE(c.addVerdict(1, true));
@@ -445,6 +486,10 @@ TEST(ConflictOptions, YamlErrorsNameTheKey) {
             10);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("split_min_frames: -1")), InputError);
   EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("split_min_frames: 0")).split_min_frames, 0);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("exit_quiet_frames: -1")), InputError);
+  EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("exit_quiet_frames: 0")).exit_quiet_frames, 0);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("exit_quiet_score: 1.0")), InputError);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("exit_quiet_score: .nan")), InputError);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("thin_view_bias_hold_landmarks: -1")), InputError);
   EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("thin_view_bias_hold_landmarks: 0")).thin_view_bias_hold_landmarks, 0);
 }

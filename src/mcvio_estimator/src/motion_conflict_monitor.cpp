@@ -57,7 +57,8 @@ MotionConflictMonitor::MotionConflictMonitor(const conflict::ConflictOptions& op
       propagated_detector_(options.propagated_chi2_threshold),
       landmark_detector_(rig, options),
       split_detector_(rig, splitOptions(options), pose_solver_),
-      tracker_(options.enter_frames, options.exit_frames, options.onset_min_score, options.onset_lookback_frames),
+      tracker_(options.enter_frames, options.exit_frames, options.onset_min_score, options.onset_lookback_frames,
+               options.exit_quiet_frames, options.exit_quiet_score),
       classifier_(options.selective_strikes, options.probation_agreeing_tests),
       smoother_(smootherOptions(options)) {}
 
@@ -477,6 +478,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   d.report.evidence_score = evidence ? std::max(score, 1.0) : scored ? score : std::numeric_limits<double>::quiet_NaN();
   // A drift that fired after standing over its limit for enter_frames frames has had its
   // hysteresis: the tracker's run would only delay a vehicle's interval by one more frame.
+  tracker_.setQuietExitAllowed(imu_dominated_);  // ConflictOptions::exit_quiet_frames
   const auto state = tracker_.update(t, evidence, tested, d.report.evidence_score, drift_persisted);
   // Elimination acts only around detected conflicts, so a clean sequence keeps every landmark (and
   // the reference's accuracy); the frontend's labels may act on every frame if asked

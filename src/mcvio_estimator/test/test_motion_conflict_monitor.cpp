@@ -1005,6 +1005,38 @@ TEST(MotionConflictMonitor, AStoppingCabinLeavesTheTestSoonerOnceTheSpeedHoldLet
   EXPECT_LE(exit_short, exit_long - 3) << "short " << exit_short << ", long " << exit_long;
 }
 
+// Once the cabin stands, its evidence score falls far below the thresholds within a few frames:
+// exit_quiet_frames such frames close the IMU-dominated interval before exit_frames clean ones
+// would, never before the cabin has stopped.
+TEST(MotionConflictMonitor, AStoppedCabinClosesItsIntervalOnQuietFrames) {
+  Scenario sc = cabin(80, kCabinFrame);
+  sc.traj.pulse_peak = 3.0;
+  sc.traj.brake_start_s = sc.traj.pulse_start_s + 3.0;
+  const int stop_frame = kCabinFrame + 80;
+  const int frames_total = stop_frame + 80;
+  conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kImu);
+  ASSERT_EQ(o.exit_quiet_frames, 2) << "the default";
+  auto exitFrame = [&](int quiet_frames, std::vector<Frame>* out) {
+    conflict::ConflictOptions q = o;
+    q.exit_quiet_frames = quiet_frames;
+    *out = run(sc, q, frames_total);
+    const auto& frames = *out;
+    const int entry = firstFrame(frames, [](const Frame& f) { return f.decision.imu_dominated; });
+    EXPECT_GT(entry, kCabinFrame);
+    EXPECT_LE(entry, kCabinFrame + kMaxCabinEntryDelay);
+    return firstFrame(frames, [&](const Frame& f) { return &f - frames.data() > entry && !inConflict(f); });
+  };
+  std::vector<Frame> quiet_run, counted_run;
+  const int quiet = exitFrame(o.exit_quiet_frames, &quiet_run);
+  const int counted = exitFrame(0, &counted_run);
+  EXPECT_GE(quiet, stop_frame);
+  EXPECT_LT(quiet, counted);
+  EXPECT_GE(quiet, counted - (o.exit_frames - o.exit_quiet_frames));
+  // The frames that closed it scored under exit_quiet_score.
+  for (int k = quiet - o.exit_quiet_frames + 1; k <= quiet; ++k)
+    EXPECT_LT(quiet_run[k].decision.report.evidence_score, o.exit_quiet_score) << "frame " << k;
+}
+
 TEST(MotionConflictMonitor, AnIntervalEndingWithAVelocityJumpRestartsAtVisionsVelocity) {
   // The cruising cabin without the hold: the interval ends while the cabin moves at 1.5 m/s with
   // the device at rest inside it. The inertial velocity (the committed true 1.5 m/s) and vision's

@@ -338,6 +338,8 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_EQ(c.auto_min_static_landmarks, dc.auto_min_static_landmarks);
   EXPECT_EQ(c.rewind_frames, dc.rewind_frames);
   EXPECT_EQ(c.exit_frames, dc.exit_frames);
+  EXPECT_EQ(c.exit_quiet_frames, dc.exit_quiet_frames);
+  EXPECT_DOUBLE_EQ(c.exit_quiet_score, dc.exit_quiet_score);
   EXPECT_EQ(c.new_landmark_probation, dc.new_landmark_probation);
   EXPECT_EQ(c.probation_agreeing_tests, dc.probation_agreeing_tests);
   EXPECT_EQ(c.exit_bias_hold_frames, dc.exit_bias_hold_frames);
@@ -362,7 +364,7 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_DOUBLE_EQ(c.rotation_chi2_threshold, dc.rotation_chi2_threshold);
   EXPECT_EQ(c.exit_velocity_frames, dc.exit_velocity_frames);
   EXPECT_EQ(c.exit_velocity_frames_after_hold, dc.exit_velocity_frames_after_hold);
-  EXPECT_EQ(root["conflict"].size(), 61u) << "every conflict option appears once";
+  EXPECT_EQ(root["conflict"].size(), 63u) << "every conflict option appears once";
 }
 
 }  // namespace

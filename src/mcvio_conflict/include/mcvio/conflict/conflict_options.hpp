@@ -137,6 +137,12 @@ struct ConflictOptions {
   int bias_drift_fast_frames = 2;
   int enter_frames = 2;                ///< consecutive frames with evidence to open an interval
   int exit_frames = 5;                 ///< consecutive clean frames to close it (0.25 s at 20 Hz)
+  /// ... or, inside an IMU-dominated interval, this many consecutive clean frames, each with an
+  /// evidence score under `exit_quiet_score`: a ride that has plainly ended (0: off; see
+  /// ConflictIntervalTracker). Not in selective intervals: a slow object's tracks, out of the
+  /// tests once found moving, hold its interval again a frame or two after a quiet pair.
+  int exit_quiet_frames = 2;
+  double exit_quiet_score = 0.6;
   /// In hindsight an interval starts where its evidence began to build up: back from the first
   /// frame of evidence over the frames whose evidence score (the detector statistics relative to
   /// their thresholds; 1 = a detector fires) stayed at least this high ...
