@@ -476,9 +476,9 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   const bool scored = tested && frames_since_reset_ >= options_.warmup_frames;
   const bool was_active = conflictActive();
   d.report.evidence_score = evidence ? std::max(score, 1.0) : scored ? score : std::numeric_limits<double>::quiet_NaN();
+  tracker_.setQuietExitAllowed(imu_dominated_);  // ConflictOptions::exit_quiet_frames
   // A drift that fired after standing over its limit for enter_frames frames has had its
   // hysteresis: the tracker's run would only delay a vehicle's interval by one more frame.
-  tracker_.setQuietExitAllowed(imu_dominated_);  // ConflictOptions::exit_quiet_frames
   const auto state = tracker_.update(t, evidence, tested, d.report.evidence_score, drift_persisted);
   // Elimination acts only around detected conflicts, so a clean sequence keeps every landmark (and
   // the reference's accuracy); the frontend's labels may act on every frame if asked
