@@ -107,6 +107,10 @@ void ConflictOptions::validate() const {
   require(auto_split_fraction > 0 && auto_split_fraction <= 1, "auto_split_fraction", "must be in (0, 1]",
           auto_split_fraction);
   require(selective_strikes >= 1, "selective_strikes", "must be >= 1", selective_strikes);
+  require(frontend_labels_outside_min_count >= 1, "frontend_labels_outside_min_count", "must be >= 1",
+          frontend_labels_outside_min_count);
+  require(frontend_labels_after_conflict_frames >= 0, "frontend_labels_after_conflict_frames", "must be >= 0",
+          frontend_labels_after_conflict_frames);
   require(probation_agreeing_tests >= 1, "probation_agreeing_tests", "must be >= 1", probation_agreeing_tests);
   require(auto_min_static_landmarks >= 0, "auto_min_static_landmarks", "must be >= 0", auto_min_static_landmarks);
   require(auto_min_tested_landmarks >= 0, "auto_min_tested_landmarks", "must be >= 0",
@@ -175,12 +179,15 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("selective_strikes", &o.selective_strikes);
   read("use_frontend_labels", &o.use_frontend_labels);
   read("frontend_labels_outside_conflicts", &o.frontend_labels_outside_conflicts);
+  read("frontend_labels_outside_min_count", &o.frontend_labels_outside_min_count);
+  read("frontend_labels_after_conflict_frames", &o.frontend_labels_after_conflict_frames);
   read("new_landmark_probation", &o.new_landmark_probation);
   read("probation_agreeing_tests", &o.probation_agreeing_tests);
   read("auto_min_static_landmarks", &o.auto_min_static_landmarks);
   read("auto_min_tested_landmarks", &o.auto_min_tested_landmarks);
   read("thin_view_bias_hold_landmarks", &o.thin_view_bias_hold_landmarks);
   read("thin_view_bias_hold_usable_tracks", &o.thin_view_bias_hold_usable_tracks);
+  read("split_bias_hold", &o.split_bias_hold);
   read("auto_split_fraction", &o.auto_split_fraction);
   read("rewind_on_entry", &o.rewind_on_entry);
   read("rewind_frames", &o.rewind_frames);

@@ -492,4 +492,12 @@ TEST(ConflictOptions, YamlErrorsNameTheKey) {
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("exit_quiet_score: .nan")), InputError);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("thin_view_bias_hold_landmarks: -1")), InputError);
   EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("thin_view_bias_hold_landmarks: 0")).thin_view_bias_hold_landmarks, 0);
+  EXPECT_FALSE(ConflictOptions::fromYaml(YAML::Load("split_bias_hold: false")).split_bias_hold);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("split_bias_hold: 2")), InputError);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("frontend_labels_outside_min_count: 0")), InputError);
+  EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("frontend_labels_outside_min_count: 3")).frontend_labels_outside_min_count, 3);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("frontend_labels_after_conflict_frames: -1")), InputError);
+  EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("frontend_labels_after_conflict_frames: 60"))
+                .frontend_labels_after_conflict_frames,
+            60);
 }

@@ -76,6 +76,7 @@ void MotionConflictMonitor::reset() {
   first_seen_.clear();
   frames_since_reset_ = 0;
   frames_since_imu_exit_ = -1;
+  frames_since_interval_ = -1;
   tracker_.reset();
   classifier_.clear();
   secondary_.end();
@@ -489,10 +490,18 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     if (in_interval)
       for (const auto& v : verdicts)
         if (classifier_.addVerdict(v.track_id, v.inconsistent)) d.eliminate.push_back(v.track_id);
-    if (options_.use_frontend_labels && (in_interval || options_.frontend_labels_outside_conflicts))
+    const bool after_conflict = frames_since_interval_ >= 0 && frames_since_interval_ < options_.frontend_labels_after_conflict_frames;
+    const bool labels_outside =
+        options_.frontend_labels_outside_conflicts &&
+        (after_conflict || static_cast<int>(frontend.inconsistent.size()) >= options_.frontend_labels_outside_min_count);
+    if (options_.use_frontend_labels && (in_interval || labels_outside))
       for (const auto id : frontend.inconsistent)
         if (cam0.count(id) != 0 && classifier_.addVerdict(id, true)) d.eliminate.push_back(id);
   }
+  if (in_interval)
+    frames_since_interval_ = 0;
+  else if (frames_since_interval_ >= 0)
+    ++frames_since_interval_;
   // Probation (onProbation) covers the tracks born on the frame before too: an occluder's first
   // tracks appear one frame before they can disagree, and their second observation pulled the
   // pose on the very frame that raised the suspicion.
@@ -618,7 +627,8 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     thin_view_hold_ = false;
   } else if (selective_active && !imu_dominated_ && have_reference_bias_ && !thin_view_hold_ &&
              (d.report.landmarks_tested < options_.thin_view_bias_hold_landmarks ||
-              usableTracks(cam0) < options_.thin_view_bias_hold_usable_tracks)) {
+              usableTracks(cam0) < options_.thin_view_bias_hold_usable_tracks ||
+              (options_.split_bias_hold && split_held))) {
     thin_view_hold_ = true;
     thin_view_bias_ = reference_bias_;
   }

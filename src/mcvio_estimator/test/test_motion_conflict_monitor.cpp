@@ -629,6 +629,7 @@ TEST(MotionConflictMonitor, FewUsableTracksBesideASlowObjectHoldTheBiases) {
   conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
   o.velocity_sigma_mps = 0.1;
   ASSERT_EQ(o.thin_view_bias_hold_usable_tracks, 15) << "the default";
+  o.split_bias_hold = false;  // the region split's own hold: ARegionSplitHeldHoldsTheBiases
   constexpr int kSwapFrame = kDriftFrame + 30;
   Scenario sc = slowObjectScene();
   for (auto& p : sc.points)
@@ -690,6 +691,33 @@ TEST(MotionConflictMonitor, ARegionSplitHeldForSplitMinFramesIsAPartialConflict)
   for (int k = 0; k < kDriftFrames; ++k) EXPECT_FALSE(inConflict(without[k])) << "frame " << k;
   for (int k = 0; k <= held; ++k)
     EXPECT_DOUBLE_EQ(without[k].decision.report.split_chi2, frames[k].decision.report.split_chi2) << "frame " << k;
+}
+
+// split_bias_hold: the interval the region split opened (the object's tracks still in the solve,
+// none flagged yet) holds the biases at the reference from its first frame on. Off, the same
+// interval leaves them free.
+TEST(MotionConflictMonitor, ARegionSplitHeldHoldsTheBiases) {
+  conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
+  o.velocity_sigma_mps = 0.1;
+  ASSERT_TRUE(o.split_bias_hold) << "the default";
+  const Scenario sc = slowObjectScene(0.1);
+  conflict::ConflictOptions off = o;
+  off.split_bias_hold = false;
+  const auto free = run(sc, off, kDriftFrames);
+  for (const auto& f : free) EXPECT_FALSE(f.decision.hold_bias);
+  const auto frames = run(sc, o, kDriftFrames);
+  const int entry = firstFrame(frames, inConflict);
+  ASSERT_GT(entry, kDriftFrame);
+  EXPECT_EQ(entry, firstFrame(free, inConflict)) << "the hold changes no verdict";
+  EXPECT_EQ(frames[entry].decision.report.landmarks_inconsistent, 0) << "opened by the split alone";
+  for (int k = 0; k < kDriftFrames; ++k) {
+    const auto& d = frames[k].decision;
+    ASSERT_FALSE(d.imu_dominated) << "frame " << k;
+    EXPECT_EQ(d.hold_bias, k >= entry) << "frame " << k;
+    if (d.hold_bias) {
+      EXPECT_LT((d.held_bias.accel - sc.imu_bias.accel).norm(), 1e-12) << "frame " << k;
+    }
+  }
 }
 
 namespace {
@@ -787,6 +815,15 @@ TEST(MotionConflictMonitor, FrontendLabelsEliminateAFewTracksOutsideAnyInterval)
   EXPECT_EQ(eliminated(run(sc, o, 100), &first), (std::set<std::uint64_t>{0, 1, 2, 3}));
   EXPECT_EQ(first, 60 + o.selective_strikes - 1) << "after selective_strikes labelled frames";
 
+  // With frontend_labels_outside_min_count the frame's 4 labels must reach it.
+  conflict::ConflictOptions four = o;
+  four.frontend_labels_outside_min_count = 4;
+  EXPECT_EQ(eliminated(run(sc, four, 100), &first), (std::set<std::uint64_t>{0, 1, 2, 3}));
+  EXPECT_EQ(first, 60 + o.selective_strikes - 1);
+  conflict::ConflictOptions five = o;
+  five.frontend_labels_outside_min_count = 5;
+  EXPECT_TRUE(eliminated(run(sc, five, 100), &first).empty());
+
   // Off, or in reference mode, the tracks stay until an interval opens.
   conflict::ConflictOptions off = o;
   off.frontend_labels_outside_conflicts = false;
@@ -794,6 +831,43 @@ TEST(MotionConflictMonitor, FrontendLabelsEliminateAFewTracksOutsideAnyInterval)
   conflict::ConflictOptions reference = o;
   reference.mode = conflict::ResolutionMode::kReference;
   EXPECT_TRUE(eliminated(run(sc, reference, 100), &first).empty());
+}
+
+// frontend_labels_after_conflict_frames: two labelled tracks appear 10 frames after the laptop
+// has gone, below frontend_labels_outside_min_count. Within the frames after the interval every
+// label counts, so they are eliminated; past them, or with the option off, they stay.
+TEST(MotionConflictMonitor, FrontendLabelsRightAfterAnIntervalEliminateEvenAFewTracks) {
+  constexpr int kLateFrame = kLaptopGoneFrame + 10;
+  Scenario sc = laptopScene();
+  auto late = staticPoints(2, 2000, 23);
+  for (auto& p : late) {
+    p.appear_s = frameSeconds(kLateFrame);
+    p.frontend_inconsistent = true;
+  }
+  sc.points.insert(sc.points.end(), late.begin(), late.end());
+  conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
+  o.frontend_labels_outside_min_count = 3;
+  auto lateEliminated = [&](const conflict::ConflictOptions& options, int* closed) {
+    const auto frames = run(sc, options, kLaptopFrames);
+    *closed = kLaptopGoneFrame;
+    while (*closed < kLaptopFrames && frames[*closed].decision.report.state != ConflictReport::State::kNone) ++*closed;
+    std::set<std::uint64_t> ids;
+    for (int k = *closed; k < kLaptopFrames; ++k) {
+      EXPECT_EQ(frames[k].decision.report.state, ConflictReport::State::kNone) << "frame " << k;
+      for (const auto id : frames[k].decision.eliminate)
+        if (id >= 2000) ids.insert(id);
+    }
+    return ids;
+  };
+  int closed = 0;
+  EXPECT_TRUE(lateEliminated(o, &closed).empty()) << "2 labels, min count 3";
+  ASSERT_LT(closed, kLateFrame);
+  conflict::ConflictOptions after = o;
+  after.frontend_labels_after_conflict_frames = kLateFrame - closed + 2;
+  EXPECT_EQ(lateEliminated(after, &closed), (std::set<std::uint64_t>{2000, 2001}));
+  conflict::ConflictOptions too_short = o;
+  too_short.frontend_labels_after_conflict_frames = kLateFrame - closed;
+  EXPECT_TRUE(lateEliminated(too_short, &closed).empty());
 }
 
 TEST(MotionConflictMonitor, HeldBiasComesFromASettledEstimateNotATransient) {
