@@ -622,7 +622,8 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   // A selective interval whose test fell under thin_view_bias_hold_landmarks, or whose usable
   // tracks fell under thin_view_bias_hold_usable_tracks, holds the biases at the reference (as
   // IMU-dominated does) until it ends: the few static landmarks left behind a close occluder, or
-  // beside a large slow object, cannot tell the accelerometer bias.
+  // beside a large slow object, cannot tell the accelerometer bias. So does one the region split
+  // opened (split_bias_hold): the object's tracks, not yet flagged, pull the bias.
   if (!tracker_.inConflict()) {
     thin_view_hold_ = false;
   } else if (selective_active && !imu_dominated_ && have_reference_bias_ && !thin_view_hold_ &&
