@@ -72,7 +72,7 @@ void MotionConflictMonitor::reset() {
   fast_drift_frames_ = 0;
   have_reference_bias_ = false;
   last_disagreed_.clear();
-  thin_view_hold_ = false;
+  selective_bias_hold_ = false;
   first_seen_.clear();
   frames_since_reset_ = 0;
   frames_since_imu_exit_ = -1;
@@ -625,19 +625,19 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   // beside a large slow object, cannot tell the accelerometer bias. So does one the region split
   // opened (split_bias_hold): the object's tracks, not yet flagged, pull the bias.
   if (!tracker_.inConflict()) {
-    thin_view_hold_ = false;
-  } else if (selective_active && !imu_dominated_ && have_reference_bias_ && !thin_view_hold_ &&
+    selective_bias_hold_ = false;
+  } else if (selective_active && !imu_dominated_ && have_reference_bias_ && !selective_bias_hold_ &&
              (d.report.landmarks_tested < options_.thin_view_bias_hold_landmarks ||
               usableTracks(cam0) < options_.thin_view_bias_hold_usable_tracks ||
               (options_.split_bias_hold && split_held))) {
-    thin_view_hold_ = true;
-    thin_view_bias_ = reference_bias_;
+    selective_bias_hold_ = true;
+    selective_held_bias_ = reference_bias_;
   }
   d.held_bias = held_bias_;
   d.hold_bias = imu_dominated_ || (frames_since_imu_exit_ >= 0 && frames_since_imu_exit_ < options_.exit_bias_hold_frames);
-  if (thin_view_hold_ && !imu_dominated_) {
+  if (selective_bias_hold_ && !imu_dominated_) {
     d.hold_bias = true;
-    d.held_bias = thin_view_bias_;
+    d.held_bias = selective_held_bias_;
   }
   d.suppress_zero_velocity = mode != conflict::ResolutionMode::kReference && tracker_.inConflict();
   switch (mode) {

@@ -186,8 +186,8 @@ class MotionConflictMonitor {
   double evidence_secondary_speed_ = 0;  ///< fastest along the peak while the detectors had evidence
   Eigen::Vector3d peak_secondary_velocity_ = Eigen::Vector3d::Zero();  ///< fastest in this IMU-dominated interval
   ImuBias held_bias_;
-  bool thin_view_hold_ = false;  ///< see ConflictOptions::thin_view_bias_hold_landmarks, _usable_tracks, split_bias_hold
-  ImuBias thin_view_bias_;       ///< ... the bias it holds
+  bool selective_bias_hold_ = false;  ///< a selective interval holds the biases: ConflictOptions::thin_view_bias_hold_*, split_bias_hold
+  ImuBias selective_held_bias_;      ///< ... the bias it holds
   ImuBias reference_bias_;
   bool have_reference_bias_ = false;
   int frames_since_reset_ = 0;
