@@ -188,6 +188,7 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("thin_view_bias_hold_landmarks", &o.thin_view_bias_hold_landmarks);
   read("thin_view_bias_hold_usable_tracks", &o.thin_view_bias_hold_usable_tracks);
   read("split_bias_hold", &o.split_bias_hold);
+  read("vision_depth_weighting", &o.vision_depth_weighting);
   read("auto_split_fraction", &o.auto_split_fraction);
   read("rewind_on_entry", &o.rewind_on_entry);
   read("rewind_frames", &o.rewind_frames);

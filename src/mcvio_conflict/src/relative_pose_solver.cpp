@@ -13,6 +13,16 @@ RelativePoseSolver::Result RelativePoseSolver::solve(const std::vector<TrackedPo
   if (static_cast<int>(points.size()) < options_.min_points) return res;
   const Eigen::Isometry3d T_CB = rig_.T_BC0.inverse();
   const double f = rig_.focal_px;
+  const double s2_px = options_.observation_sigma_px * options_.observation_sigma_px;
+  // Residual weight relative to pixel noise alone: sigma^2 (sigma^2 I + a a^T)^-1, a = the pixel
+  // shift of one depth sigma at r (Sherman-Morrison). The identity without depth uncertainty.
+  auto weight = [&](const TrackedPoint& p, const Eigen::Matrix3d& R, const Eigen::Matrix<double, 2, 3>& Jp_f) {
+    Eigen::Matrix2d W = Eigen::Matrix2d::Identity();
+    if (!options_.depth_weighting || !(p.depth_sigma_r > 0)) return W;
+    const Eigen::Vector2d a = Jp_f * (T_CB.linear() * (R.transpose() * p.ray_r)) * p.depth_sigma_r;
+    W -= a * a.transpose() / (s2_px + a.squaredNorm());
+    return W;
+  };
   Eigen::Matrix3d R = initial.R;
   Eigen::Vector3d t = initial.t;
   std::vector<char> use(points.size(), 1);
@@ -36,11 +46,12 @@ RelativePoseSolver::Result RelativePoseSolver::solve(const std::vector<TrackedPo
         Jx.leftCols<3>() = so3::hat(X_k);   // d X_k / d dtheta (right perturbation of R)
         Jx.rightCols<3>() = -R.transpose();  // d X_k / d dt
         const Eigen::Matrix<double, 2, 6> J = f * Jp * T_CB.linear() * Jx;
+        const Eigen::Matrix2d W = weight(points[i], R, f * Jp);
         double w = 1.0;
-        const double e = r.norm();
+        const double e = std::sqrt(r.dot(W * r));
         if (robust && e > options_.huber_px) w = options_.huber_px / e;
-        H += w * J.transpose() * J;
-        g += w * J.transpose() * r;
+        H += w * J.transpose() * W * J;
+        g += w * J.transpose() * W * r;
         ++n;
       }
       if (n < options_.min_points) return false;
@@ -59,7 +70,14 @@ RelativePoseSolver::Result RelativePoseSolver::solve(const std::vector<TrackedPo
   int inliers = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector3d X_c = T_CB * (R.transpose() * (points[i].X_r - t));
-    const double e = X_c.z() > 0.05 ? (f * (X_c.head<2>() / X_c.z() - points[i].n0_k)).norm() : 1e9;
+    double e = 1e9;
+    if (X_c.z() > 0.05) {
+      const double iz = 1.0 / X_c.z();
+      Eigen::Matrix<double, 2, 3> Jp;
+      Jp << iz, 0, -X_c.x() * iz * iz, 0, iz, -X_c.y() * iz * iz;
+      const Eigen::Vector2d r = f * (X_c.head<2>() * iz - points[i].n0_k);
+      e = std::sqrt(r.dot(weight(points[i], R, f * Jp) * r));
+    }
     use[i] = e < options_.outlier_px ? 1 : 0;
     if (use[i]) {
       ++inliers;
@@ -68,10 +86,10 @@ RelativePoseSolver::Result RelativePoseSolver::solve(const std::vector<TrackedPo
   }
   if (inliers < options_.min_points) return res;
   if (!pass(false, 3)) return res;
-  // A posteriori variance: stereo depth errors of the points at r add to the pixel noise, and
-  // the fit's own scatter measures both.
+  // A posteriori variance: the fit's own scatter (residuals under their weights) covers what the
+  // weights do not model.
   const double dof = std::max(1, inliers - 6);
-  const double s2 = std::max(options_.observation_sigma_px * options_.observation_sigma_px, sum2 / dof);
+  const double s2 = std::max(s2_px, sum2 / dof);
   res.motion.R = R;
   res.motion.t = t;
   res.motion.covariance = s2 * H.inverse();

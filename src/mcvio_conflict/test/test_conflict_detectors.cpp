@@ -1,5 +1,6 @@
 // Unit tests of the motion-conflict pieces on small constructed cases.
 #include <algorithm>
+#include <cstdio>
 #include <random>
 
 #include <Eigen/Dense>
@@ -102,6 +103,59 @@ TEST(RelativePoseSolver, IgnoresAMovingMinority) {
   ASSERT_TRUE(res.valid);
   EXPECT_LT((res.motion.t - truth.t).norm(), 0.01);
   EXPECT_LE(res.inliers, 105);
+}
+
+// A brisk horizon: 0.6 m of travel, points out to 15 m whose stereo depth at r is off by its own
+// sigma. Weighed by their projected depth uncertainty the far points pull the rotation less (19 %
+// less RMS error over these 200 draws; 0 % if the weights do nothing) and the covariance still
+// covers the error (mean normalised squared error near its 3 degrees of freedom).
+TEST(RelativePoseSolver, WeighsPointsByTheirDepthUncertainty) {
+  const auto g = rig();
+  const auto truth = motion({0.05, -0.15, 0.08}, {0.5, 0.3, 0.1}, 0, 0);
+  const Eigen::Isometry3d T_CB = g.T_BC0.inverse();
+  RelativePoseSolver::Options pixel_only;
+  pixel_only.depth_weighting = false;
+  RelativePoseSolver::Options weighted;
+  ASSERT_TRUE(weighted.depth_weighting) << "the default";
+  double sq_plain = 0, sq_weighted = 0, nees_plain = 0, nees_weighted = 0;
+  const int trials = 200;
+  for (int k = 0; k < trials; ++k) {
+    std::mt19937 rng(100 + k);
+    std::uniform_real_distribution<double> u(-1.0, 1.0), depth(1.5, 15.0);
+    std::normal_distribution<double> n01(0.0, 1.0);
+    std::vector<TrackedPoint> pts;
+    for (int i = 0; i < 100; ++i) {
+      const double d = depth(rng);
+      const Eigen::Vector3d b(0.5 * u(rng), 0.35 * u(rng), 1.0);
+      TrackedPoint p;
+      p.track_id = static_cast<std::uint64_t>(i);
+      p.depth_sigma_r = d * d * 0.5 / (g.focal_px * 0.11);
+      const Eigen::Vector3d X_true = g.T_BC0 * (b * d);
+      const double d_meas = d + p.depth_sigma_r * n01(rng);  // what the stereo pair of r measured
+      p.X_r = g.T_BC0 * (b * d_meas);
+      p.depth_r = d_meas;
+      p.ray_r = g.T_BC0.linear() * b.normalized();
+      const Eigen::Vector3d X_c = T_CB * truth.toCurrent(X_true);
+      p.n0_k = X_c.head<2>() / X_c.z() + 0.5 * Eigen::Vector2d(n01(rng), n01(rng)) / g.focal_px;
+      pts.push_back(p);
+    }
+    for (bool w : {false, true}) {
+      const auto res = RelativePoseSolver(g, w ? weighted : pixel_only).solve(pts, truth);
+      ASSERT_TRUE(res.valid);
+      const Eigen::Vector3d e = so3::log(truth.R.transpose() * res.motion.R);
+      const double nees = e.dot(res.motion.covariance.topLeftCorner<3, 3>().ldlt().solve(e));
+      (w ? sq_weighted : sq_plain) += e.squaredNorm();
+      (w ? nees_weighted : nees_plain) += nees;
+    }
+  }
+  const double rms_plain = std::sqrt(sq_plain / trials), rms_weighted = std::sqrt(sq_weighted / trials);
+  nees_plain /= trials;
+  nees_weighted /= trials;
+  std::printf("rotation error RMS %.3f -> %.3f deg, mean NEES %.2f -> %.2f (3 dof)\n", rms_plain * 57.2958,
+              rms_weighted * 57.2958, nees_plain, nees_weighted);
+  EXPECT_LT(rms_weighted, 0.9 * rms_plain);
+  EXPECT_GT(nees_weighted, 1.0);
+  EXPECT_LT(nees_weighted, 6.0);
 }
 
 TEST(RelativePoseSolver, TooFewPointsIsInvalid) {
@@ -494,6 +548,9 @@ TEST(ConflictOptions, YamlErrorsNameTheKey) {
   EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("thin_view_bias_hold_landmarks: 0")).thin_view_bias_hold_landmarks, 0);
   EXPECT_FALSE(ConflictOptions::fromYaml(YAML::Load("split_bias_hold: false")).split_bias_hold);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("split_bias_hold: 2")), InputError);
+  EXPECT_TRUE(ConflictOptions{}.vision_depth_weighting);
+  EXPECT_FALSE(ConflictOptions::fromYaml(YAML::Load("vision_depth_weighting: false")).vision_depth_weighting);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("vision_depth_weighting: sometimes")), InputError);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("frontend_labels_outside_min_count: 0")), InputError);
   EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("frontend_labels_outside_min_count: 3")).frontend_labels_outside_min_count, 3);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("frontend_labels_after_conflict_frames: -1")), InputError);

@@ -17,6 +17,7 @@ conflict::RelativePoseSolver::Options solverOptions(const conflict::ConflictOpti
   s.observation_sigma_px = o.observation_sigma_px;
   s.huber_px = 2.0 * o.observation_sigma_px;
   s.outlier_px = 4.0 * o.observation_sigma_px;
+  s.depth_weighting = o.vision_depth_weighting;
   return s;
 }
 

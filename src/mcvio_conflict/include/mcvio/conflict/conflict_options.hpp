@@ -209,6 +209,11 @@ struct ConflictOptions {
   /// same. Image level with the IMU noise at x3 (shipped): slow object 0.078 / 0.071 / 0.079 ->
   /// 0.039 / 0.024 / 0.036 m (seeds 1-3).
   bool split_bias_hold = true;
+  /// The vision-only motion weighs each point by its stereo depth uncertainty at the horizon's
+  /// reference frame, projected into the newest frame (RelativePoseSolver). Without it a brisk
+  /// horizon's far points pulled vision's rotation up to a degree off on a clean feature-level
+  /// sequence (seed 7), and the propagated-state test opened a false interval.
+  bool vision_depth_weighting = true;
   /// Auto: an interval that opens with at least this share of landmarks disagreeing while
   /// `auto_min_static_landmarks` still agree is a clear split and goes selective.
   double auto_split_fraction = 0.3;

@@ -8,6 +8,9 @@ namespace mcvio::conflict {
 /// Vision-only motion between frames r and k: points triangulated by the stereo pair of r,
 /// re-observed by cam0 of k (PnP). Gauss-Newton on SO(3) x R^3 with Huber weights and a final
 /// inlier re-fit. Independent of the estimator's state, so it is what "vision alone" says.
+/// Each point's stereo depth uncertainty at r (TrackedPoint::depth_sigma_r) is projected into
+/// frame k and weighs its residual: over a brisk horizon the depth error of a far point moves
+/// its reprojection by pixels along the direction of travel.
 class RelativePoseSolver {
  public:
   struct Options {
@@ -16,6 +19,7 @@ class RelativePoseSolver {
     double outlier_px = 6.0;   ///< residuals above this are excluded from the final fit
     int iterations = 8;
     int min_points = 8;
+    bool depth_weighting = true;  ///< weigh by the depth uncertainty (false: pixel noise only)
   };
   struct Result {
     bool valid = false;
