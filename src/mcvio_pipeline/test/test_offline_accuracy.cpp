@@ -105,7 +105,7 @@ TEST(OfflineAccuracy, SemiRealV101First60s) {
 // took that for a whole-view conflict and went IMU-dominated for 5.7 s (ATE 0.133 m against the
 // reference's 0.395 m); a group found by the split beside a side that agrees with the IMU now
 // makes the conflict partial: 0.053 m (IMU noise x6; 0.055 against 0.334 m at x3, shipped since
-// 1015e6c).
+// 1015e6c; 0.039 m since vision's motion weighs its points by their depth uncertainty, 5432f6a).
 TEST(OfflineAccuracy, RenderedSlowObjectFoundByTheRegionSplitStaysSelective) {
   sim::SimulatorOptions so;
   so.seed = 3;
