@@ -23,6 +23,18 @@ RelativePoseSolver::Result RelativePoseSolver::solve(const std::vector<TrackedPo
     W -= a * a.transpose() / (s2_px + a.squaredNorm());
     return W;
   };
+  // Point i in cam0 of k under (R, t): its pixel residual and d(normalised image)/d(X_c); false
+  // behind the camera.
+  auto project = [&](const TrackedPoint& p, const Eigen::Matrix3d& R, const Eigen::Vector3d& t, Eigen::Vector3d* X_k,
+                     Eigen::Vector2d* r, Eigen::Matrix<double, 2, 3>* Jp) {
+    *X_k = R.transpose() * (p.X_r - t);
+    const Eigen::Vector3d X_c = T_CB * *X_k;
+    if (X_c.z() < 0.05) return false;
+    const double iz = 1.0 / X_c.z();
+    *r = f * (X_c.head<2>() * iz - p.n0_k);
+    *Jp << iz, 0, -X_c.x() * iz * iz, 0, iz, -X_c.y() * iz * iz;
+    return true;
+  };
   Eigen::Matrix3d R = initial.R;
   Eigen::Vector3d t = initial.t;
   std::vector<char> use(points.size(), 1);
@@ -35,13 +47,10 @@ RelativePoseSolver::Result RelativePoseSolver::solve(const std::vector<TrackedPo
       int n = 0;
       for (std::size_t i = 0; i < points.size(); ++i) {
         if (!use[i]) continue;
-        const Eigen::Vector3d X_k = R.transpose() * (points[i].X_r - t);
-        const Eigen::Vector3d X_c = T_CB * X_k;
-        if (X_c.z() < 0.05) continue;
-        const double iz = 1.0 / X_c.z();
-        const Eigen::Vector2d r = f * (X_c.head<2>() * iz - points[i].n0_k);
+        Eigen::Vector3d X_k;
+        Eigen::Vector2d r;
         Eigen::Matrix<double, 2, 3> Jp;
-        Jp << iz, 0, -X_c.x() * iz * iz, 0, iz, -X_c.y() * iz * iz;
+        if (!project(points[i], R, t, &X_k, &r, &Jp)) continue;
         Eigen::Matrix<double, 3, 6> Jx;
         Jx.leftCols<3>() = so3::hat(X_k);   // d X_k / d dtheta (right perturbation of R)
         Jx.rightCols<3>() = -R.transpose();  // d X_k / d dt
@@ -69,15 +78,10 @@ RelativePoseSolver::Result RelativePoseSolver::solve(const std::vector<TrackedPo
   double sum2 = 0;
   int inliers = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const Eigen::Vector3d X_c = T_CB * (R.transpose() * (points[i].X_r - t));
-    double e = 1e9;
-    if (X_c.z() > 0.05) {
-      const double iz = 1.0 / X_c.z();
-      Eigen::Matrix<double, 2, 3> Jp;
-      Jp << iz, 0, -X_c.x() * iz * iz, 0, iz, -X_c.y() * iz * iz;
-      const Eigen::Vector2d r = f * (X_c.head<2>() * iz - points[i].n0_k);
-      e = std::sqrt(r.dot(weight(points[i], R, f * Jp) * r));
-    }
+    Eigen::Vector3d X_k;
+    Eigen::Vector2d r;
+    Eigen::Matrix<double, 2, 3> Jp;
+    const double e = project(points[i], R, t, &X_k, &r, &Jp) ? std::sqrt(r.dot(weight(points[i], R, f * Jp) * r)) : 1e9;
     use[i] = e < options_.outlier_px ? 1 : 0;
     if (use[i]) {
       ++inliers;
