@@ -55,7 +55,7 @@ struct BackendComponent::Impl {
   std::unique_ptr<estimator::SlidingWindowEstimator> estimator;
 
   std::unique_ptr<dds::Publisher<Odometry>> odometry_pub, secondary_pub;
-  std::unique_ptr<dds::Publisher<nav_msgs::msg::dds_::Path_>> path_pub;
+  std::unique_ptr<dds::Publisher<nav_msgs::msg::dds_::Path_>> path_pub, secondary_path_pub;
   std::unique_ptr<dds::Publisher<tf2_msgs::msg::dds_::TFMessage_>> tf_pub, tf_static_pub;
   std::unique_ptr<dds::Publisher<sensor_msgs::msg::dds_::PointCloud2_>> landmarks_pub;
   std::unique_ptr<dds::Publisher<mcvio_msgs::msg::dds_::MotionConflict_>> conflict_pub;
@@ -74,7 +74,7 @@ struct BackendComponent::Impl {
   double latency_sum_ms = 0, cpu_sum_ms = 0;
 
   // Worker-thread state.
-  std::deque<StampedPose> path;
+  std::deque<StampedPose> path, secondary_path;
   Eigen::Vector3d last_gyro = Eigen::Vector3d::Zero();
   estimator::EstimatorStatus last_status = estimator::EstimatorStatus::kNotInitialized;
   std::string last_not_initialized_message;
@@ -96,6 +96,8 @@ struct BackendComponent::Impl {
     odometry_pub = node->createPublisher<Odometry>("/mcvio/odometry", out_qos);
     secondary_pub = node->createPublisher<Odometry>("/mcvio/secondary_odometry", out_qos);
     path_pub = node->createPublisher<nav_msgs::msg::dds_::Path_>("/mcvio/path", dds::QosProfile::transientLocal(1));
+    secondary_path_pub =
+        node->createPublisher<nav_msgs::msg::dds_::Path_>("/mcvio/secondary_path", dds::QosProfile::transientLocal(1));
     tf_pub = node->createPublisher<tf2_msgs::msg::dds_::TFMessage_>("/tf", options.lossless ? out_qos : tf_qos);
     tf_static_pub = node->createPublisher<tf2_msgs::msg::dds_::TFMessage_>("/tf_static", dds::QosProfile::transientLocal(1));
     landmarks_pub = node->createPublisher<sensor_msgs::msg::dds_::PointCloud2_>("/mcvio/landmarks", out_qos);
@@ -251,17 +253,22 @@ struct BackendComponent::Impl {
       T_WB.linear() = e.q_WB.normalized().toRotationMatrix();
       T_WB.translation() = e.p_WB;
       tf_pub->publish(toTfMessage({toTransformStamped(T_WB, e.t, options.world_frame, options.body_frame)}));
+      // The conflict window re-estimated earlier frames: the paths show the final estimates.
       path.push_back({e.t, e.p_WB, e.q_WB});
-      // The conflict window re-estimated earlier frames: the path shows the final estimate.
-      for (const auto& rev : e.revised_poses) {
-        const auto it = std::lower_bound(path.begin(), path.end(), rev.t,
-                                         [](const StampedPose& a, Timestamp t) { return a.t < t; });
-        if (it != path.end() && it->t == rev.t) *it = {rev.t, rev.p_WB, rev.q_WB};
-      }
+      estimator::applyPoseRevisions(&path, e.revised_poses);
       if (options.max_path_poses > 0 && path.size() > options.max_path_poses) path.pop_front();
       path_pub->publish(toPathMsg(std::vector<StampedPose>(path.begin(), path.end()), options.world_frame));
       conflict_pub->publish(toMotionConflictMsg(e, options.world_frame));
-      if (e.conflict.secondary_valid) secondary_pub->publish(toSecondaryOdometryMsg(e, options.world_frame, options.secondary_frame));
+      if (e.conflict.secondary_valid) {
+        secondary_pub->publish(toSecondaryOdometryMsg(e, options.world_frame, options.secondary_frame));
+        secondary_path.push_back({e.t, e.conflict.p_WS, e.conflict.q_WS});
+      }
+      const bool secondary_revised = estimator::applyPoseRevisions(&secondary_path, e.revised_secondary);
+      if (e.conflict.secondary_valid || secondary_revised) {
+        if (options.max_path_poses > 0 && secondary_path.size() > options.max_path_poses) secondary_path.pop_front();
+        secondary_path_pub->publish(
+            toPathMsg(std::vector<StampedPose>(secondary_path.begin(), secondary_path.end()), options.world_frame));
+      }
       ++estimated_frames;
       if (options.landmarks_every_n_frames > 0 && estimated_frames % options.landmarks_every_n_frames == 0) {
         landmarks_pub->publish(toPointCloud2Msg(estimator->landmarkPositions(), e.t, options.world_frame));

@@ -551,6 +551,11 @@ TEST(ConflictOptions, YamlErrorsNameTheKey) {
   EXPECT_TRUE(ConflictOptions{}.vision_depth_weighting);
   EXPECT_FALSE(ConflictOptions::fromYaml(YAML::Load("vision_depth_weighting: false")).vision_depth_weighting);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("vision_depth_weighting: sometimes")), InputError);
+  EXPECT_DOUBLE_EQ(ConflictOptions::fromYaml(YAML::Load("smoothing_held_acceleration_sigma: 0.02"))
+                       .smoothing_held_acceleration_sigma,
+                   0.02);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_held_acceleration_sigma: 0")), InputError);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_held_acceleration_sigma: .nan")), InputError);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("frontend_labels_outside_min_count: 0")), InputError);
   EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("frontend_labels_outside_min_count: 3")).frontend_labels_outside_min_count, 3);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("frontend_labels_after_conflict_frames: -1")), InputError);

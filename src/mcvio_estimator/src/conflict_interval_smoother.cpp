@@ -31,6 +31,16 @@ void ConflictIntervalSmoother::addFrame(Timestamp t, const Eigen::Quaterniond& q
   frames_.push_back({t, q.normalized()});
 }
 
+void ConflictIntervalSmoother::setSecondary(Timestamp t, const Eigen::Vector3d& p_WB, const Eigen::Vector3d& p_WS,
+                                            const Eigen::Quaterniond& q_WS) {
+  if (!active_ || frames_.empty() || frames_.back().t != t) return;
+  Node& n = frames_.back();
+  n.has_secondary = true;
+  n.p_WB = p_WB;
+  n.p_WS = p_WS;
+  n.q_WS = q_WS.normalized();
+}
+
 void ConflictIntervalSmoother::markExit() {
   if (!active_) return;
   exited_ = true;
@@ -52,7 +62,14 @@ ConflictIntervalSmoother::Result ConflictIntervalSmoother::finish(const ImuBuffe
     return res;
   }
   // Inertial propagation over the window, and the Jacobians of velocity and position with respect
-  // to one acceleration correction in the world frame, constant over the window.
+  // to one acceleration correction in the world frame, scaled over time by its expected growth:
+  // shape(tau) = (sigma0^2 + q (tau - tau^2 / 2T)) / (sigma0^2 + q T / 2), 1 at the end T.
+  const double window_s = toSeconds(frames_.back().t - t0_);
+  const double sigma0_sq = options_.held_acceleration_sigma * options_.held_acceleration_sigma;
+  const double q = noise.accelerometer_random_walk * noise.accelerometer_random_walk;
+  const auto shape = [&](double tau) {
+    return (sigma0_sq + q * (tau - tau * tau / (2.0 * window_s))) / (sigma0_sq + q * window_s / 2.0);
+  };
   Eigen::Vector3d p = p0_, v = v0_;
   Eigen::Matrix3d Jp = Eigen::Matrix3d::Zero(), Jv = Eigen::Matrix3d::Zero();
   Eigen::Matrix3d R = q0_.toRotationMatrix();
@@ -75,9 +92,10 @@ ConflictIntervalSmoother::Result ConflictIntervalSmoother::finish(const ImuBuffe
     ImuPreintegrator pre(bias_, noise);
     for (const auto& s : samples) pre.integrate(s);
     const double dt = pre.deltaTime();
+    const double g = shape(toSeconds(t - t0_) + 0.5 * dt);
     p += v * dt + 0.5 * gravity * dt * dt + R * pre.deltaP();
-    Jp += Jv * dt + 0.5 * dt * dt * Eigen::Matrix3d::Identity();
-    Jv += dt * Eigen::Matrix3d::Identity();
+    Jp += Jv * dt + 0.5 * dt * dt * g * Eigen::Matrix3d::Identity();
+    Jv += dt * g * Eigen::Matrix3d::Identity();
     v += gravity * dt + R * pre.deltaV();
     positions.push_back(p);
     jacobians.push_back(Jp);
@@ -105,8 +123,12 @@ ConflictIntervalSmoother::Result ConflictIntervalSmoother::finish(const ImuBuffe
     return res;
   }
   res.revisions.reserve(frames_.size());
-  for (std::size_t i = 0; i < frames_.size(); ++i)
-    res.revisions.push_back({frames_[i].t, positions[i] + jacobians[i] * db, frames_[i].q});
+  for (std::size_t i = 0; i < frames_.size(); ++i) {
+    const Node& n = frames_[i];
+    const Eigen::Vector3d p_revised = positions[i] + jacobians[i] * db;
+    res.revisions.push_back({n.t, p_revised, n.q});
+    if (n.has_secondary) res.secondary_revisions.push_back({n.t, n.p_WS + (p_revised - n.p_WB), n.q_WS});
+  }
   res.acceleration_correction = db;
   res.shift = res.revisions.back().p_WB - p_end;
   res.applied = res.shift.allFinite();

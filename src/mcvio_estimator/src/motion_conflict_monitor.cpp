@@ -32,6 +32,7 @@ ConflictIntervalSmoother::Options smootherOptions(const conflict::ConflictOption
   ConflictIntervalSmoother::Options s;
   s.settle_frames = o.smoothing_settle_frames;
   s.max_acceleration_correction = o.smoothing_max_acceleration_correction;
+  s.held_acceleration_sigma = o.smoothing_held_acceleration_sigma;
   return s;
 }
 
@@ -703,7 +704,12 @@ void MotionConflictMonitor::commit(const State& solved, ConflictReport* report) 
   }
   pending_.secondary_valid = secondary_.valid();
   if (pending_.secondary_valid) pending_.v_WS = secondary_.v_WS();
-  if (smoother_.active()) smoother_.addFrame(pending_.t, solved.q);
+  if (smoother_.active()) {
+    smoother_.addFrame(pending_.t, solved.q);
+    if (secondary_.valid())
+      smoother_.setSecondary(pending_.t, solved.p, secondary_.T_WS().translation(),
+                             Eigen::Quaterniond(secondary_.T_WS().linear()));
+  }
   history_.push_back(std::move(pending_));
   have_pending_ = false;
   ++frames_since_reset_;

@@ -1080,6 +1080,7 @@ void SlidingWindowEstimator::smoothConflictWindow(EstimatorOutput* out) {
         if (b.kind == BlockKind::kPose) Eigen::Map<Eigen::Vector3d>(b.x_lin.data()) += res.shift;
   out->p_WB += res.shift;
   out->revised_poses = std::move(res.revisions);
+  out->revised_secondary = std::move(res.secondary_revisions);
   spdlog::info("{}{}", kLog, res.message);
 }
 

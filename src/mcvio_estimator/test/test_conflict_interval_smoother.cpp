@@ -2,6 +2,8 @@
 // samples of a known motion, measured with an accelerometer bias the held estimate does not know.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <map>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -44,15 +46,28 @@ struct Motion {
 
 double seconds(Timestamp t) { return toSeconds(t - kStart); }
 
-ImuBuffer imuFor(double duration_s) {
+/// The accelerometer's bias at a time [s]: constant, or walking away from the held estimate.
+using BiasProfile = Eigen::Vector3d (*)(double);
+Eigen::Vector3d constantBias(double) { return kTrueAccelBias; }
+/// Grows from 0 (the held estimate, right when the window opens) at a constant rate.
+Eigen::Vector3d walkingBias(double s) { return kTrueAccelBias * (s / 10.0); }
+
+ImuBuffer imuFor(double duration_s, BiasProfile bias = constantBias) {
   ImuBuffer imu;
   for (Timestamp t = kStart; seconds(t) <= duration_s + 1e-9; t += kImuPeriod) {
     ImuSample s;
     s.t = t;
-    s.accel = Motion::accel(seconds(t)) - kGravity + kTrueAccelBias;  // body = world orientation
+    s.accel = Motion::accel(seconds(t)) - kGravity + bias(seconds(t));  // body = world orientation
     EXPECT_EQ(imu.add(s, 0.1), ImuBuffer::AddResult::kAccepted);
   }
   return imu;
+}
+
+/// An IMU whose bias does not walk: the correction's best shape is a constant.
+ImuNoiseParams steadyBiasImu() {
+  ImuNoiseParams n;
+  n.accelerometer_random_walk = 0;
+  return n;
 }
 
 ConflictIntervalSmoother::Options options() {
@@ -97,7 +112,7 @@ TEST(ConflictIntervalSmoother, RecoversTheAccelerationErrorAndThePositions) {
   const ImuBuffer imu = imuFor(seconds(last) + 0.1);
   // The live estimate drifted: wherever it is, the shift brings it onto the corrected position.
   const Eigen::Vector3d p_end = Motion::position(seconds(last)) + Eigen::Vector3d(1.5, -2.0, 0.7);
-  const auto res = s.finish(imu, ImuNoiseParams{}, kGravity, p_end, trueVelocities(last, 10));
+  const auto res = s.finish(imu, steadyBiasImu(), kGravity, p_end, trueVelocities(last, 10));
   ASSERT_TRUE(res.applied) << res.message;
   EXPECT_FALSE(s.active());
   // The body frame is the world's here: the correction removes the unknown bias.
@@ -109,6 +124,74 @@ TEST(ConflictIntervalSmoother, RecoversTheAccelerationErrorAndThePositions) {
   EXPECT_LT((res.shift - Eigen::Vector3d(-1.5, 2.0, -0.7)).norm(), 1e-3) << res.shift.transpose();
   // Without the correction the held bias would have left the end 0.5 * |b| * T^2 = 2.9 m off.
   EXPECT_NE(res.message.find("smoothed"), std::string::npos) << res.message;
+}
+
+TEST(ConflictIntervalSmoother, ShapesTheCorrectionForABiasThatWalks) {
+  // The held bias was right when the window opened, and the true one drifted away from it over
+  // the 12 s interval (as the accelerometer's random walk does): the velocity error at the end is
+  // the integral of the drift, the position error its double integral. A constant correction
+  // that matches the end velocity over-corrects the positions; the shaped one follows the growth.
+  const auto worstError = [](double held_sigma, Eigen::Vector3d* end_error) {
+    ConflictIntervalSmoother::Options o = options();
+    o.held_acceleration_sigma = held_sigma;
+    ConflictIntervalSmoother s(o);
+    const Timestamp last = fillWindow(&s, 12.0);
+    const auto res = s.finish(imuFor(seconds(last) + 0.1, walkingBias), ImuNoiseParams{}, kGravity,
+                              Motion::position(seconds(last)), trueVelocities(last, 10));
+    EXPECT_TRUE(res.applied) << res.message;
+    double worst = 0;
+    for (const auto& r : res.revisions) worst = std::max(worst, (r.p_WB - Motion::position(seconds(r.t))).norm());
+    *end_error = res.revisions.back().p_WB - Motion::position(seconds(last));
+    return worst;
+  };
+  Eigen::Vector3d shaped_end, constant_end;
+  // ImuNoiseParams{}: the EuRoC random walk, 3e-3 m/s^2/sqrt(s); a held estimate known to 1e-3.
+  const double shaped = worstError(1e-3, &shaped_end);
+  const double constant = worstError(1e3, &constant_end);  // the walk negligible: constant shape
+  std::printf("walking bias over 13 s: worst corrected position error %.3f m shaped, %.3f m constant\n", shaped,
+              constant);
+  // A steady ramp a*t is not the walk's expected shape, t (T - t / 2T): fitted to the same end
+  // velocity it leaves a T^3 / 48 = 0.17 m at the end, the constant a T^3 / 12 = 0.68 m
+  // (a = 0.0037 m/s^3, T = 13 s; uncorrected, a T^3 / 6 = 1.35 m).
+  EXPECT_LT(shaped, 0.3 * constant);
+  EXPECT_LT(shaped_end.norm(), 0.3 * constant_end.norm());
+  EXPECT_LT(shaped, 0.2);
+}
+
+TEST(ConflictIntervalSmoother, MovesTheConflictingFrameWithTheBody) {
+  // The cabin's pose is measured from the body (vision against the cabin), so the body's
+  // correction at a frame is the cabin's too. Only frames that published one get a revision.
+  ConflictIntervalSmoother s(options());
+  s.begin(kStart, Motion::position(0), Eigen::Quaterniond::Identity(), Motion::velocity(0), ImuBias{});
+  const Eigen::Vector3d body_to_cabin(0.2, -0.3, 1.1);
+  const Eigen::Quaterniond q_WS(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()));
+  std::map<Timestamp, Eigen::Vector3d> published;  // the drifted body positions the cabin was published with
+  Timestamp t = kStart + kFramePeriod;
+  for (int i = 0; i < 260; ++i, t += kFramePeriod) {
+    s.addFrame(t, Eigen::Quaterniond::Identity());
+    if (i == 240) s.markExit();
+    if (i >= 10 && i < 240) {
+      const Eigen::Vector3d p = Motion::position(seconds(t)) + Eigen::Vector3d(0.01 * i, 0, -0.02 * i);
+      published[t] = p;
+      s.setSecondary(t, p, p + body_to_cabin, q_WS);
+      s.setSecondary(t - kFramePeriod / 2, p, Eigen::Vector3d::Zero(), q_WS);  // not a frame: ignored
+    }
+  }
+  const Timestamp last = t - kFramePeriod;
+  const auto res = s.finish(imuFor(seconds(last) + 0.1), steadyBiasImu(), kGravity, Motion::position(seconds(last)),
+                            trueVelocities(last, 10));
+  ASSERT_TRUE(res.applied) << res.message;
+  ASSERT_EQ(res.secondary_revisions.size(), published.size());
+  std::map<Timestamp, Eigen::Vector3d> revised;
+  for (const auto& r : res.revisions) revised[r.t] = r.p_WB;
+  for (const auto& sr : res.secondary_revisions) {
+    ASSERT_EQ(published.count(sr.t), 1u);
+    // The cabin moved by exactly what the body did at that frame.
+    EXPECT_LT((sr.p_WB - (published[sr.t] + body_to_cabin) - (revised[sr.t] - published[sr.t])).norm(), 1e-12);
+    // ...which puts it next to the corrected (here true) body position.
+    EXPECT_LT((sr.p_WB - body_to_cabin - Motion::position(seconds(sr.t))).norm(), 1e-3);
+    EXPECT_LT(sr.q_WB.angularDistance(q_WS), 1e-12);
+  }
 }
 
 TEST(ConflictIntervalSmoother, RefusesAnEndVelocityThatIsNotTheWorlds) {

@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
   estimator::SlidingWindowEstimator est(eo, seq.calibration);
   std::ofstream csv;
   if (argc > 5 && std::string(argv[5]) != "-") csv.open(argv[5]);
-  if (csv) csv << "t,state,chi2,tested,inconsistent,fraction,coherence,label,px,py,pz,gx,gy,gz,sec_valid,sz,bax,bay,baz,vx,vy,vz,drift,moving,split,score\n";
+  if (csv) csv << "t,state,chi2,tested,inconsistent,fraction,coherence,label,px,py,pz,gx,gy,gz,sec_valid,sz,bax,bay,baz,vx,vy,vz,drift,moving,split,score,tbax,tbay,tbaz,tvz,qerr_deg\n";
   std::size_t k = 0, g = 0, li = 0;
   std::vector<Eigen::Vector3d> pe, pg;
   std::vector<Timestamp> pt;
@@ -135,6 +135,7 @@ int main(int argc, char** argv) {
       est_z_end = out.p_WB.z();
       if (out.conflict.secondary_valid) sec_z_end = out.conflict.p_WS.z();
     }
+    const auto& gt = seq.ground_truth[g];
     if (csv)
       csv << f.t << ',' << int(out.conflict.state) << ',' << out.conflict.propagated_chi2 << ','
           << out.conflict.landmarks_tested << ',' << out.conflict.landmarks_inconsistent << ','
@@ -144,7 +145,9 @@ int main(int argc, char** argv) {
           << int(out.conflict.secondary_valid) << ',' << out.conflict.p_WS.z() << ',' << out.bias.accel.x() << ','
           << out.bias.accel.y() << ',' << out.bias.accel.z() << ',' << out.v_WB.x() << ',' << out.v_WB.y() << ','
           << out.v_WB.z() << ',' << out.conflict.accel_bias_drift << ',' << moving_tracks[fi] << ','
-          << out.conflict.split_chi2 << ',' << out.conflict.evidence_score << '\n';
+          << out.conflict.split_chi2 << ',' << out.conflict.evidence_score << ',' << gt.bias_accel.x() << ','
+          << gt.bias_accel.y() << ',' << gt.bias_accel.z() << ',' << gt.v_WB.z() << ','
+          << Eigen::AngleAxisd(gt.q_WB.conjugate() * out.q_WB).angle() * 180.0 / M_PI << '\n';
   }
   const auto a = align4(pe, pg);
   double sq = 0, sqc = 0;

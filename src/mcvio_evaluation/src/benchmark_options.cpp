@@ -91,6 +91,7 @@ void BenchmarkOptions::validate() const {
   require(t.min_tpr >= 0 && t.min_tpr <= 1, "targets.min_tpr: must be in [0, 1]");
   require(t.max_fpr >= 0 && t.max_fpr <= 1, "targets.max_fpr: must be in [0, 1]");
   require(t.ride_displacement_tolerance_percent >= 0, "targets.ride_displacement_tolerance_percent: must not be negative");
+  require(t.secondary_motion_tolerance_percent >= 0, "targets.secondary_motion_tolerance_percent: must not be negative");
 }
 
 }  // namespace mcvio::evaluation

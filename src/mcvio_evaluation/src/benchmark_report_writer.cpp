@@ -49,7 +49,8 @@ std::string join(const std::vector<std::string>& v, const char* sep = ", ") {
 std::string checksText(const BenchmarkRun& r) {
   const std::pair<const char*, const std::optional<bool>*> items[] = {
       {"ATE", &r.checks.ate_reduction}, {"RPE", &r.checks.rpe_reduction},     {"clean", &r.checks.clean_ate},
-      {"det", &r.checks.detection},     {"ride", &r.checks.ride_displacement}, {"cost", &r.checks.cost}};
+      {"det", &r.checks.detection},     {"ride", &r.checks.ride_displacement}, {"cabin", &r.checks.secondary_motion},
+      {"cost", &r.checks.cost}};
   std::vector<std::string> parts;
   for (const auto& [name, c] : items)
     if (c->has_value()) parts.push_back(std::string(name) + (**c ? " ok" : " FAIL"));
@@ -164,6 +165,7 @@ std::string BenchmarkReportWriter::toJson(const BenchmarkResult& result) {
                     {"min_tpr", o.targets.min_tpr},
                     {"max_fpr", o.targets.max_fpr},
                     {"ride_displacement_tolerance_percent", o.targets.ride_displacement_tolerance_percent},
+                    {"secondary_motion_tolerance_percent", o.targets.secondary_motion_tolerance_percent},
                     {"max_added_cost_percent", o.targets.max_added_cost_percent}}}};
   json targets = json::array();
   for (const auto& t : result.targets)
@@ -212,6 +214,7 @@ std::string BenchmarkReportWriter::toJson(const BenchmarkResult& result) {
                         {"clean_ate", check(r.checks.clean_ate)},
                         {"detection", check(r.checks.detection)},
                         {"ride_displacement", check(r.checks.ride_displacement)},
+                        {"secondary_motion", check(r.checks.secondary_motion)},
                         {"cost", check(r.checks.cost)},
                         {"all_pass", r.checks.allPass()}}}});
     }

@@ -124,7 +124,7 @@ TEST(BenchmarkSuite, TargetsCountPassesAndTheWorstRun) {
     sr.conflict_frames = conflict_s > 0 ? 100 : 0;
     return sr;
   };
-  // Elevator: 90% less ATE, 50% less RPE, detection 0.97/0.01, 10% added CPU, ride 2% off.
+  // Elevator: 90% less ATE, 50% less RPE, detection 0.97/0.01, 10% added CPU, ride 2% off, cabin 4%.
   auto elevator = sequence("elevator", 15);
   elevator.runs = {makeRun("reference", 10.0, 0.2, 0.5, 0.0, 10.0), makeRun("auto", 1.0, 0.1, 0.97, 0.01, 11.0)};
   for (auto& r : elevator.runs) {
@@ -133,6 +133,7 @@ TEST(BenchmarkSuite, TargetsCountPassesAndTheWorstRun) {
     r.added_cost_percent = 100.0 * (r.cpu_mean_ms - 10.0) / 10.0;
   }
   elevator.runs[1].ride_error_percent = 2.0;
+  elevator.runs[1].secondary_error_percent = 4.0;
   // Vehicle: only 50% less ATE and TPR 0.9.
   auto vehicle = sequence("vehicle", 15);
   vehicle.runs = {makeRun("reference", 2.0, 0.2, 0.5, 0.0, 10.0), makeRun("auto", 1.0, 0.1, 0.9, 0.0, 10.0)};
@@ -153,12 +154,14 @@ TEST(BenchmarkSuite, TargetsCountPassesAndTheWorstRun) {
   EXPECT_FALSE(e.clean_ate.has_value());
   EXPECT_TRUE(e.detection.value_or(false));
   EXPECT_TRUE(e.ride_displacement.value_or(false));
+  EXPECT_TRUE(e.secondary_motion.value_or(false));
   EXPECT_TRUE(e.cost.value_or(false));
   EXPECT_TRUE(e.allPass());
   const auto& v = result.sequences[1].runs[1].checks;
   EXPECT_FALSE(v.ate_reduction.value_or(true));
   EXPECT_FALSE(v.detection.value_or(true));
   EXPECT_FALSE(v.ride_displacement.has_value());
+  EXPECT_FALSE(v.secondary_motion.has_value());
   EXPECT_FALSE(v.allPass());
   const auto& c = result.sequences[2].runs[1].checks;
   EXPECT_TRUE(c.clean_ate.value_or(false));
@@ -187,6 +190,10 @@ TEST(BenchmarkSuite, TargetsCountPassesAndTheWorstRun) {
   EXPECT_NEAR(clean_target.worst, 3.0, 1e-12);
   EXPECT_TRUE(summary("added backend CPU").pass());
   EXPECT_DOUBLE_EQ(summary("added backend CPU").worst, 10.0);
+  const auto& cabin = summary("elevator cabin (secondary) motion");
+  EXPECT_EQ(cabin.total, 1u);
+  EXPECT_TRUE(cabin.pass());
+  EXPECT_DOUBLE_EQ(cabin.worst, 4.0);
 }
 
 TEST(BenchmarkSuite, ShortElevatorRunEndToEnd) {

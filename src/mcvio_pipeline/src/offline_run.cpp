@@ -222,6 +222,59 @@ double peakRssMb() {
   return static_cast<double>(u.ru_maxrss) / 1024.0;  // Linux reports kB
 }
 
+/// A TUM file written pose by pose, as published. If later frames re-estimate earlier poses (the
+/// conflict window after an IMU-dominated interval), finish() keeps the published version as
+/// NAME_online.tum and rewrites NAME.tum with the final estimate.
+class RevisableTumFile {
+ public:
+  using Pose = estimator::EstimatorOutput::PoseRevision;
+
+  RevisableTumFile(std::string path, std::string what) : path_(std::move(path)), what_(std::move(what)), file_(path_) {
+    if (!file_) throw InputError("cannot write " + path_);
+    // A per-frame version left by an earlier run into this folder would not belong to this one.
+    std::error_code ignored;
+    std::filesystem::remove(onlinePath(), ignored);
+    file_ << "# t x y z qx qy qz qw  (" << what_ << "; t in seconds)\n" << std::setprecision(9) << std::fixed;
+  }
+
+  void add(Timestamp t, const Eigen::Vector3d& p, const Eigen::Quaterniond& q) {
+    write(file_, {t, p, q});
+    poses_.push_back({t, p, q});
+  }
+
+  void revise(const std::vector<Pose>& revisions) { revised_ |= estimator::applyPoseRevisions(&poses_, revisions); }
+
+  void finish() {
+    file_.close();
+    if (!revised_) return;
+    const std::string online = onlinePath();
+    std::filesystem::rename(path_, online);
+    std::ofstream final_file(path_);
+    final_file << "# t x y z qx qy qz qw  (" << what_
+               << "; t in seconds; final estimate, conflict windows smoothed; as published per frame: "
+               << std::filesystem::path(online).filename().string() << ")\n"
+               << std::setprecision(9) << std::fixed;
+    for (const auto& p : poses_) write(final_file, p);
+    if (!final_file) throw InputError("cannot write " + path_);
+  }
+
+ private:
+  static void write(std::ofstream& f, const Pose& p) {
+    writeSeconds(f, p.t);
+    f << ' ' << p.p_WB.x() << ' ' << p.p_WB.y() << ' ' << p.p_WB.z() << ' ' << p.q_WB.x() << ' ' << p.q_WB.y() << ' '
+      << p.q_WB.z() << ' ' << p.q_WB.w() << '\n';
+  }
+  std::string onlinePath() const {
+    std::filesystem::path p(path_);
+    return p.replace_filename(p.stem().string() + "_online.tum").string();
+  }
+
+  std::string path_, what_;
+  std::ofstream file_;
+  std::vector<Pose> poses_;  ///< as in the file, revisions applied
+  bool revised_ = false;
+};
+
 /// The decoded images of one frame and what decoding cost.
 struct LoadedFrame {
   std::size_t index = 0;
@@ -234,24 +287,16 @@ struct LoadedFrame {
 class RunRecorder {
  public:
   RunRecorder(const std::string& tum_path, std::size_t frames, const OfflineRunOptions& options, double data_seconds)
-      : tum_path_(tum_path),
-        tum_(tum_path),
+      : tum_(tum_path, "pose of imu0 in world"),
         conflict_(options.output_dir + "/conflict.csv"),
-        secondary_(options.output_dir + "/secondary.tum"),
+        secondary_(options.output_dir + "/secondary.tum",
+                   "the conflicting frame S in world, identity at the interval start"),
         bar_("run", frames, options.progress),
         on_frame_(options.on_frame),
         data_seconds_(data_seconds),
         frames_total_(frames) {
-    if (!tum_) throw InputError("cannot write " + tum_path);
-    // A per-frame trajectory left by an earlier run into this folder would not belong to this one.
-    std::error_code ignored;
-    std::filesystem::remove(std::filesystem::path(tum_path).replace_filename("trajectory_online.tum"), ignored);
     if (!conflict_) throw InputError("cannot write " + options.output_dir + "/conflict.csv");
-    if (!secondary_) throw InputError("cannot write " + options.output_dir + "/secondary.tum");
-    tum_ << "# t x y z qx qy qz qw  (pose of imu0 in world; t in seconds)\n" << std::setprecision(9) << std::fixed;
     conflict_ << kConflictCsvHeader;
-    secondary_ << "# t x y z qx qy qz qw  (the conflicting frame S in world, identity at the interval start; t in seconds)\n"
-               << std::setprecision(9) << std::fixed;
   }
 
   void add(std::size_t i, const VioFrameResult& r, double load_cpu_ms) {
@@ -281,16 +326,11 @@ class RunRecorder {
       landmarks.add(e.num_landmarks);
       if (e.status == estimator::EstimatorStatus::kTracking && e.frame_accepted) {
         ++summary.estimated;
-        writePose(tum_, e.t, e.p_WB, e.q_WB);
-        poses_.push_back({e.t, e.p_WB, e.q_WB});
-        for (const auto& rev : e.revised_poses) {
-          const auto it = std::lower_bound(poses_.begin(), poses_.end(), rev.t,
-                                           [](const estimator::EstimatorOutput::PoseRevision& a, Timestamp t) { return a.t < t; });
-          if (it == poses_.end() || it->t != rev.t) continue;
-          *it = rev;
-          revised_ = true;
-        }
+        tum_.add(e.t, e.p_WB, e.q_WB);
         const auto& c = e.conflict;
+        if (c.secondary_valid) secondary_.add(e.t, c.p_WS, c.q_WS);
+        tum_.revise(e.revised_poses);
+        secondary_.revise(e.revised_secondary);
         conflict_ << e.t << ',' << estimator::toString(c.state) << ',' << c.propagated_chi2 << ','
                   << c.propagated_threshold << ',' << c.landmarks_tested << ',' << c.landmarks_inconsistent << ','
                   << c.inconsistent_fraction << ',' << c.coherence << ',' << c.interval_start << ','
@@ -298,11 +338,6 @@ class RunRecorder {
                   << c.frontend_checked << ',' << c.frontend_inconsistent << ',' << c.accel_bias_drift << ','
                   << c.split_chi2 << ',' << c.evidence_score << '\n';
         conflict_frames += c.state == estimator::ConflictReport::State::kConflict ? 1 : 0;
-        if (c.secondary_valid) {
-          writeSeconds(secondary_, e.t);
-          secondary_ << ' ' << c.p_WS.x() << ' ' << c.p_WS.y() << ' ' << c.p_WS.z() << ' ' << c.q_WS.x() << ' '
-                     << c.q_WS.y() << ' ' << c.q_WS.z() << ' ' << c.q_WS.w() << '\n';
-        }
         backend_stage_ms["conflict"].add(e.timings.conflict_ms);
       }
     }
@@ -316,21 +351,11 @@ class RunRecorder {
     }
   }
 
-  /// trajectory.tum was written frame by frame, as published. If the conflict window later
-  /// re-estimated earlier frames, that version moves to trajectory_online.tum and trajectory.tum
-  /// becomes the final estimate.
+  /// trajectory.tum and secondary.tum become the final estimates (see RevisableTumFile).
   void finish() {
     bar_.finish();
-    tum_.close();
-    if (!revised_) return;
-    const std::string online = std::filesystem::path(tum_path_).replace_filename("trajectory_online.tum").string();
-    std::filesystem::rename(tum_path_, online);
-    std::ofstream final_tum(tum_path_);
-    final_tum << "# t x y z qx qy qz qw  (pose of imu0 in world; t in seconds; final estimate, conflict windows smoothed;"
-                 " as published per frame: trajectory_online.tum)\n"
-              << std::setprecision(9) << std::fixed;
-    for (const auto& p : poses_) writePose(final_tum, p.t, p.p_WB, p.q_WB);
-    if (!final_tum) throw InputError("cannot write " + tum_path_);
+    tum_.finish();
+    secondary_.finish();
   }
 
   OfflineRunSummary summary;
@@ -340,15 +365,9 @@ class RunRecorder {
   std::map<std::string, std::size_t> skip_reasons;
 
  private:
-  static void writePose(std::ofstream& f, Timestamp t, const Eigen::Vector3d& p, const Eigen::Quaterniond& q) {
-    writeSeconds(f, t);
-    f << ' ' << p.x() << ' ' << p.y() << ' ' << p.z() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << q.w() << '\n';
-  }
-
-  std::string tum_path_;
-  std::ofstream tum_, conflict_, secondary_;
-  std::vector<estimator::EstimatorOutput::PoseRevision> poses_;  ///< as in trajectory.tum, revisions applied
-  bool revised_ = false;
+  RevisableTumFile tum_;
+  std::ofstream conflict_;
+  RevisableTumFile secondary_;
   ProgressBar bar_;
   std::function<void(std::size_t, const VioFrameResult&)> on_frame_;
   const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();

@@ -21,7 +21,8 @@ void addBackendCommand(CLI::App& app, CommandContext& ctx) {
       "Publishes /mcvio/odometry (nav_msgs/Odometry world -> imu0, pose covariance in world axes),\n"
       "/mcvio/path, /tf (world -> imu0), /tf_static (imu0 -> cam0, cam1), /mcvio/landmarks\n"
       "(sensor_msgs/PointCloud2), /mcvio/conflict (mcvio_msgs/MotionConflict) and, while a\n"
-      "conflicting frame is tracked, /mcvio/secondary_odometry. Nothing is published before the\n"
+      "conflicting frame is tracked, /mcvio/secondary_odometry and /mcvio/secondary_path (both paths\n"
+      "are revised in place when a conflict window re-estimates an interval). Nothing is published before the\n"
       "estimator is initialised (it logs why it waits). Ctrl-C stops it and prints a summary.\n"
       "Each feature frame waits until /imu0 has reached its stamp, so with --lossless on the frontend,\n"
       "backend and player the poses are those of `mcvio run` on the same data.\n"
@@ -58,7 +59,8 @@ void addBackendCommand(CLI::App& app, CommandContext& ctx) {
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_option("--path-max", opt->component.max_path_poses,
-                  "keep the newest N poses in /mcvio/path, 0 = all (every message grows with the run)")
+                  "keep the newest N poses in /mcvio/path and /mcvio/secondary_path, 0 = all (every message\n"
+                  "grows with the run)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_option("--max-imu-wait", opt->component.max_imu_wait_s,

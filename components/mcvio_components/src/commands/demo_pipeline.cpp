@@ -213,6 +213,8 @@ void DemoPipeline::runOverDds(const Sequence& s, SequenceResult& r) const {
   std::vector<Odometry> odometry, secondary;
   std::vector<MotionConflict> conflicts;
   Path path;  // the newest: the final trajectory, conflict windows revised
+  Path secondary_path;  // the newest: the conflicting frame's final poses
+  std::size_t secondary_paths_received = 0;
 
   // The recorder has a participant of its own (it must not share typed registrations).
   dds::GraphMonitor monitor;
@@ -242,6 +244,12 @@ void DemoPipeline::runOverDds(const Sequence& s, SequenceResult& r) const {
   auto secondary_sub = listener->createSubscription<Odometry>("/mcvio/secondary_odometry", lossless, [&](const Odometry& o) {
     std::lock_guard<std::mutex> lock(m);
     secondary.push_back(o);
+  });
+  const auto latched = dds::QosProfile::transientLocal(1);
+  auto secondary_path_sub = listener->createSubscription<Path>("/mcvio/secondary_path", latched, [&](const Path& p) {
+    std::lock_guard<std::mutex> lock(m);
+    secondary_path = p;
+    ++secondary_paths_received;
   });
 
   // The offline reference run uses the shipped configuration: so do the components, but for the mode.
@@ -318,6 +326,14 @@ void DemoPipeline::runOverDds(const Sequence& s, SequenceResult& r) const {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
+  // The secondary path is published only while the conflicting frame is tracked and when a
+  // conflict window revises it: wait until nothing more arrives.
+  for (std::size_t last = 0, quiet = 0; quiet < 10;) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    std::lock_guard<std::mutex> lock(m);
+    quiet = secondary_paths_received == last ? quiet + 1 : 0;
+    last = secondary_paths_received;
+  }
   r.dds_s = secondsSince(t0);
   // Let the recorder drain what is still on the wire, then close the bag.
   for (std::size_t last = recorder.messagesWritten(), n = 0; n < 100; ++n) {
@@ -332,8 +348,9 @@ void DemoPipeline::runOverDds(const Sequence& s, SequenceResult& r) const {
   std::lock_guard<std::mutex> lock(m);
   r.mcvio_poses = odometry.size();
   std::ofstream tum(s.mcvio_dir / "trajectory.tum"), online(s.mcvio_dir / "trajectory_online.tum"),
-      csv(s.mcvio_dir / "conflict.csv"), sec(s.mcvio_dir / "secondary.tum");
-  if (!tum || !online || !csv || !sec) throw InputError("cannot write into " + s.mcvio_dir.string());
+      csv(s.mcvio_dir / "conflict.csv"), sec(s.mcvio_dir / "secondary.tum"),
+      sec_online(s.mcvio_dir / "secondary_online.tum");
+  if (!tum || !online || !csv || !sec || !sec_online) throw InputError("cannot write into " + s.mcvio_dir.string());
   // As `mcvio run`: trajectory.tum is the final estimate (the last /mcvio/path, where conflict
   // windows revised earlier poses), trajectory_online.tum what /mcvio/odometry said per frame.
   online << "# t x y z qx qy qz qw  (pose of imu0 in world; t in seconds; /mcvio/odometry per frame)\n"
@@ -357,9 +374,21 @@ void DemoPipeline::runOverDds(const Sequence& s, SequenceResult& r) const {
         << c.frontend_checked() << ',' << c.frontend_inconsistent() << ',' << c.accel_bias_drift() << ','
         << c.split_chi2() << ',' << c.evidence_score() << '\n';
   }
-  sec << "# t x y z qx qy qz qw  (the conflicting frame S in world, identity at the interval start; t in seconds)\n"
+  sec_online << "# t x y z qx qy qz qw  (the conflicting frame S in world, identity at the interval start; t in "
+                "seconds; /mcvio/secondary_odometry per frame)\n"
+             << std::setprecision(9) << std::fixed;
+  for (const auto& o : secondary) writePose(sec_online, o);
+  sec << "# t x y z qx qy qz qw  (the conflicting frame S in world, identity at the interval start; t in seconds; "
+         "final estimate, the last /mcvio/secondary_path)\n"
       << std::setprecision(9) << std::fixed;
-  for (const auto& o : secondary) writePose(sec, o);
+  if (secondary_path.poses().size() == secondary.size()) {
+    for (const auto& ps : secondary_path.poses()) writePose(sec, components::stampOf(ps.header()), ps.pose());
+  } else {
+    std::cerr << "mcvio demo: warning: the last /mcvio/secondary_path holds " << secondary_path.poses().size()
+              << " poses, /mcvio/secondary_odometry " << secondary.size()
+              << "; secondary.tum is the per-frame odometry\n";
+    for (const auto& o : secondary) writePose(sec, o);
+  }
   std::cout << "  DDS run: " << stats.frames_received << " feature frames, " << stats.poses_published << " poses ("
             << stats.conflict_frames << " in conflict, " << stats.resets << " resets) in " << fixed(r.dds_s, 1)
             << " s; bag: " << recording.messages << " messages on " << recording.messages_per_topic.size()

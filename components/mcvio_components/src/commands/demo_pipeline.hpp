@@ -18,8 +18,10 @@ namespace mcvio::cli {
 /// Layout of the output folder, per sequence SEQ (elevator, self_occlusion):
 ///   SEQ/data        the rendered EuRoC folder (images removed at the end unless keep_images)
 ///   SEQ/bag         rosbag2 MCAP of the run's /imu0, /ground_truth/odometry, /tf*, /mcvio/* topics
-///   SEQ/mcvio       trajectory.tum, conflict.csv, secondary.tum from /mcvio/odometry,
-///                   /mcvio/conflict and /mcvio/secondary_odometry (columns as `mcvio run` writes)
+///   SEQ/mcvio       trajectory.tum and secondary.tum from the last /mcvio/path and
+///                   /mcvio/secondary_path (final: conflict windows revised), trajectory_online.tum
+///                   and secondary_online.tum from /mcvio/odometry and /mcvio/secondary_odometry (per
+///                   frame), conflict.csv from /mcvio/conflict (columns as `mcvio run` writes)
 ///   SEQ/reference   `mcvio run --mode reference` output
 ///   SEQ/report      eval.json, eval.md and the PNG figures of `mcvio eval`
 class DemoPipeline {

@@ -24,7 +24,7 @@ struct BackendComponentOptions {
   bool lossless = false;
   /// /mcvio/landmarks every this many estimated frames (0: never).
   std::size_t landmarks_every_n_frames = 1;
-  /// /mcvio/path keeps the newest this many poses (0: all; a long run makes every Path message
+  /// /mcvio/path and /mcvio/secondary_path keep the newest this many poses (0: all; a long run makes every Path message
   /// large, 10000 poses are about 8 minutes at 20 Hz).
   std::size_t max_path_poses = 10000;
   /// Not lossless: a feature frame waits at most this long (wall clock) for IMU up to its stamp,
@@ -61,6 +61,8 @@ struct BackendComponentStats {
 ///   /mcvio/landmarks           sensor_msgs/PointCloud2 of the window's landmarks (world)
 ///   /mcvio/conflict            mcvio_msgs/MotionConflict per estimated frame
 ///   /mcvio/secondary_odometry  nav_msgs/Odometry of the conflicting frame while it is tracked
+///   /mcvio/secondary_path      nav_msgs/Path of those poses (transient local), revised with
+///                              /mcvio/path when a conflict window re-estimates the interval
 /// The estimator sees what `mcvio run` gives it: every IMU sample up to a frame's stamp, then the
 /// frame. A frame therefore waits until /imu0 has reached its stamp. Nothing is published before
 /// the estimator is initialised. Bad input is logged with its topic and skipped; never fatal.

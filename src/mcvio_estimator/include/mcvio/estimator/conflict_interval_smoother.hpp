@@ -18,12 +18,16 @@ namespace mcvio::estimator {
 /// pre-conflict estimate, so an error of that estimate, or of the attitude that removes gravity,
 /// grows into a velocity error, then a position error. Once the interval has ended and vision has
 /// re-established the velocity, the interval is re-estimated from its start state: the IMU is
-/// integrated over every frame (with the estimator's orientations, which vision kept) and one
-/// acceleration correction, constant in the world frame over the window, is fitted so that the
-/// inertial velocity after the exit equals the visual one. (A correction of the accelerometer bias
-/// in the body frame fitted the same velocities worse: 0.50 against 0.21 m ATE on the
-/// feature-level elevator, 0.64 against 0.45 m on the rendered one.) The result is the corrected
-/// position of each frame and the shift that brings the live window onto the corrected end.
+/// integrated over every frame (with the estimator's orientations, which vision kept) with one
+/// acceleration correction in the world frame, fitted so that the inertial velocity after the exit
+/// equals the visual one. Its direction is fixed over the window, its size is not: the true
+/// accelerometer bias keeps walking while the held one stays, so given the velocity error at the
+/// end T the expected error at time t grows as sigma0^2 + q (t - t^2 / 2T) (sigma0 the held
+/// estimate's error, q the random walk's variance rate; constant for q = 0). (A correction of the
+/// accelerometer bias in the body frame fitted the same velocities worse: 0.50 against 0.21 m ATE
+/// on the feature-level elevator, 0.64 against 0.45 m on the rendered one.) The result is the
+/// corrected position of each frame, the conflicting frame's poses moved with them, and the shift
+/// that brings the live window onto the corrected end.
 class ConflictIntervalSmoother {
  public:
   struct Options {
@@ -33,17 +37,25 @@ class ConflictIntervalSmoother {
     /// A larger correction [m/s^2] means the end velocity is not the world's (the interval
     /// closed while the conflicting frame still moved): nothing is changed.
     double max_acceleration_correction = 0.2;
-    /// A window longer than this [s] is given up (one constant correction cannot describe it, and
-    /// the IMU kept for it would grow without bound).
+    /// A window longer than this [s] is given up (one correction cannot describe it, and the IMU
+    /// kept for it would grow without bound).
     double max_window_s = 120.0;
+    /// How far the held accelerometer bias and the gravity removal may be off when the window
+    /// opens [m/s^2, per axis]. Against the accelerometer random walk it sets the correction's
+    /// shape over time: large values make it constant.
+    double held_acceleration_sigma = 0.01;
   };
 
   struct Result {
     bool applied = false;
     std::string message;                                          ///< why not, or what was done
-    Eigen::Vector3d acceleration_correction = Eigen::Vector3d::Zero();  ///< world frame [m/s^2]
+    /// World frame, at its largest (the end of the window) [m/s^2].
+    Eigen::Vector3d acceleration_correction = Eigen::Vector3d::Zero();
     Eigen::Vector3d shift = Eigen::Vector3d::Zero();  ///< corrected minus estimated position at the end [m]
     std::vector<EstimatorOutput::PoseRevision> revisions;  ///< every frame after the start, the last one included
+    /// The conflicting frame's pose at every frame that published one (setSecondary), moved by
+    /// the body's revision at that frame: S is measured from the body.
+    std::vector<EstimatorOutput::PoseRevision> secondary_revisions;
   };
 
   explicit ConflictIntervalSmoother(const Options& options) : options_(options) {}
@@ -54,6 +66,10 @@ class ConflictIntervalSmoother {
   /// A frame of the interval (or after it, while settling) with its estimated orientation; past
   /// max_window_s the window closes unsmoothed.
   void addFrame(Timestamp t, const Eigen::Quaterniond& q);
+  /// The conflicting frame's pose published at the last added frame t, with the body position
+  /// published there; ignored if t is not that frame.
+  void setSecondary(Timestamp t, const Eigen::Vector3d& p_WB, const Eigen::Vector3d& p_WS,
+                    const Eigen::Quaterniond& q_WS);
   /// The IMU-dominated interval ended at the last added frame.
   void markExit();
   /// A new IMU-dominated interval opened before the smoothing ran: the window goes on.
@@ -82,6 +98,10 @@ class ConflictIntervalSmoother {
   struct Node {
     Timestamp t = 0;
     Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+    bool has_secondary = false;
+    Eigen::Vector3d p_WB = Eigen::Vector3d::Zero();  ///< as published with the secondary pose
+    Eigen::Vector3d p_WS = Eigen::Vector3d::Zero();
+    Eigen::Quaterniond q_WS = Eigen::Quaterniond::Identity();
   };
   Options options_;
   bool active_ = false, exited_ = false;

@@ -1,4 +1,5 @@
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -109,7 +110,26 @@ struct EstimatorOutput {
     Eigen::Quaterniond q_WB = Eigen::Quaterniond::Identity();
   };
   std::vector<PoseRevision> revised_poses;
+  /// The conflicting frame's poses (ConflictReport::p_WS, q_WS) published at those frames,
+  /// moved with the body's revision (S is measured from the body). Empty on most frames.
+  std::vector<PoseRevision> revised_secondary;
   std::string message;              ///< warnings about this frame's input, reset reasons
 };
+
+/// Replaces the poses that `revisions` re-estimated in a time-sorted sequence of stamped poses
+/// (elements with `t`, assignable from {t, p, q}, e.g. a published path). Stamps not in the
+/// sequence are skipped. Returns whether any pose changed.
+template <class SortedPoses>
+bool applyPoseRevisions(SortedPoses* poses, const std::vector<EstimatorOutput::PoseRevision>& revisions) {
+  bool revised = false;
+  for (const auto& rev : revisions) {
+    const auto it = std::lower_bound(poses->begin(), poses->end(), rev.t,
+                                     [](const auto& pose, Timestamp t) { return pose.t < t; });
+    if (it == poses->end() || it->t != rev.t) continue;
+    *it = {rev.t, rev.p_WB, rev.q_WB.normalized()};
+    revised = true;
+  }
+  return revised;
+}
 
 }  // namespace mcvio::estimator

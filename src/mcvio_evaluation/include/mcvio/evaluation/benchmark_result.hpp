@@ -48,6 +48,7 @@ struct BenchmarkChecks {
   std::optional<bool> clean_ate;         ///< "none"
   std::optional<bool> detection;         ///< TPR (with conflict) and FPR
   std::optional<bool> ride_displacement; ///< elevator
+  std::optional<bool> secondary_motion;  ///< elevator: the cabin's own motion
   std::optional<bool> cost;
   /// All applicable checks pass (true when none applies).
   bool allPass() const;

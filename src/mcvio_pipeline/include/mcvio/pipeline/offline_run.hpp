@@ -64,7 +64,9 @@ struct OfflineInput {
 /// OUT/conflict.csv (the motion-conflict statistics of every estimated frame), OUT/secondary.tum
 /// (the conflicting frame S in the world while it is tracked) and OUT/stats.json (per-stage CPU
 /// time, wall time, frames/s, real-time factor, peak memory, features, keyframes, statuses).
-/// Throws mcvio::InputError for bad input.
+/// When a conflict window re-estimates earlier frames, trajectory.tum and secondary.tum hold the
+/// final estimates and the per-frame output moves to trajectory_online.tum and
+/// secondary_online.tum. Throws mcvio::InputError for bad input.
 OfflineRunSummary runOffline(const OfflineRunOptions& options);
 
 /// The same run over an input the caller holds; options.dataset_dir only names it in stats.json
