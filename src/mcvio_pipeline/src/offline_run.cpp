@@ -27,6 +27,7 @@
 #include "mcvio/dataset/euroc_dataset.hpp"
 #include "mcvio/dataset/euroc_file_reader.hpp"
 #include "mcvio/rosmsg/cdr_codec.hpp"
+#include "revisable_tum_file.hpp"
 
 namespace mcvio::pipeline {
 
@@ -184,16 +185,6 @@ nlohmann::json stageSummaries(const std::map<std::string, StageStats>& stages) {
   return j;
 }
 
-// Seconds with all nine decimals of the nanosecond stamp: a double holds EuRoC-epoch times only to
-// ~200 ns, which breaks matching poses to other per-frame output by time.
-void writeSeconds(std::ostream& out, Timestamp t) {
-  if (t < 0) out << '-';
-  const auto abs_t = static_cast<unsigned long long>(t < 0 ? -t : t);
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%llu.%09llu", abs_t / 1000000000ULL, abs_t % 1000000000ULL);
-  out << buf;
-}
-
 double threadCpuMs() {
   timespec ts{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
@@ -221,59 +212,6 @@ double peakRssMb() {
   getrusage(RUSAGE_SELF, &u);
   return static_cast<double>(u.ru_maxrss) / 1024.0;  // Linux reports kB
 }
-
-/// A TUM file written pose by pose, as published. If later frames re-estimate earlier poses (the
-/// conflict window after an IMU-dominated interval), finish() keeps the published version as
-/// NAME_online.tum and rewrites NAME.tum with the final estimate.
-class RevisableTumFile {
- public:
-  using Pose = estimator::EstimatorOutput::PoseRevision;
-
-  RevisableTumFile(std::string path, std::string what) : path_(std::move(path)), what_(std::move(what)), file_(path_) {
-    if (!file_) throw InputError("cannot write " + path_);
-    // A per-frame version left by an earlier run into this folder would not belong to this one.
-    std::error_code ignored;
-    std::filesystem::remove(onlinePath(), ignored);
-    file_ << "# t x y z qx qy qz qw  (" << what_ << "; t in seconds)\n" << std::setprecision(9) << std::fixed;
-  }
-
-  void add(Timestamp t, const Eigen::Vector3d& p, const Eigen::Quaterniond& q) {
-    write(file_, {t, p, q});
-    poses_.push_back({t, p, q});
-  }
-
-  void revise(const std::vector<Pose>& revisions) { revised_ |= estimator::applyPoseRevisions(&poses_, revisions); }
-
-  void finish() {
-    file_.close();
-    if (!revised_) return;
-    const std::string online = onlinePath();
-    std::filesystem::rename(path_, online);
-    std::ofstream final_file(path_);
-    final_file << "# t x y z qx qy qz qw  (" << what_
-               << "; t in seconds; final estimate, conflict windows smoothed; as published per frame: "
-               << std::filesystem::path(online).filename().string() << ")\n"
-               << std::setprecision(9) << std::fixed;
-    for (const auto& p : poses_) write(final_file, p);
-    if (!final_file) throw InputError("cannot write " + path_);
-  }
-
- private:
-  static void write(std::ofstream& f, const Pose& p) {
-    writeSeconds(f, p.t);
-    f << ' ' << p.p_WB.x() << ' ' << p.p_WB.y() << ' ' << p.p_WB.z() << ' ' << p.q_WB.x() << ' ' << p.q_WB.y() << ' '
-      << p.q_WB.z() << ' ' << p.q_WB.w() << '\n';
-  }
-  std::string onlinePath() const {
-    std::filesystem::path p(path_);
-    return p.replace_filename(p.stem().string() + "_online.tum").string();
-  }
-
-  std::string path_, what_;
-  std::ofstream file_;
-  std::vector<Pose> poses_;  ///< as in the file, revisions applied
-  bool revised_ = false;
-};
 
 /// The decoded images of one frame and what decoding cost.
 struct LoadedFrame {

@@ -15,6 +15,7 @@
 #include "mcvio/pipeline/bounded_queue.hpp"
 #include "mcvio/pipeline/offline_run.hpp"
 #include "mcvio/sim/simulator.hpp"
+#include "../src/revisable_tum_file.hpp"
 
 using namespace mcvio;
 
@@ -352,4 +353,44 @@ TEST(OfflineRun, ImuStampsJustAfterTheFramesStillGiveEveryPose) {
   EXPECT_EQ(accepted, tracking);
   EXPECT_EQ(s.estimated, accepted);
   std::filesystem::remove_all(o.output_dir);
+}
+
+TEST(RevisableTumFile, KeepsThePublishedPosesAndWritesTheRevisedOnes) {
+  const auto dir = std::filesystem::temp_directory_path() / ("mcvio_revisable_tum_" + std::to_string(getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "secondary.tum").string();
+  const Timestamp t0 = 1'403'715'273'262'142'976;  // EuRoC epoch: nine decimals must survive
+  {
+    pipeline::RevisableTumFile f(path, "the conflicting frame");
+    for (int i = 0; i < 4; ++i) f.add(t0 + i * 50'000'000, Eigen::Vector3d(i, 0, 0), Eigen::Quaterniond::Identity());
+    f.revise({{t0 + 50'000'000, Eigen::Vector3d(1, 2, 3), Eigen::Quaterniond::Identity()},
+              {t0 + 7, Eigen::Vector3d(9, 9, 9), Eigen::Quaterniond::Identity()}});  // no such frame: ignored
+    EXPECT_TRUE(f.revised());
+    f.finish();
+  }
+  const auto final_rows = readTum(path);
+  const auto online_rows = readTum((dir / "secondary_online.tum").string());
+  ASSERT_EQ(final_rows.size(), 4u);
+  ASSERT_EQ(online_rows.size(), 4u);
+  EXPECT_DOUBLE_EQ(final_rows[1][2], 2.0);
+  EXPECT_DOUBLE_EQ(online_rows[1][2], 0.0);
+  EXPECT_DOUBLE_EQ(final_rows[2][1], online_rows[2][1]);
+  std::ifstream in(path);
+  std::string header, first;
+  std::getline(in, header);
+  std::getline(in, first);
+  EXPECT_NE(header.find("as published per frame: secondary_online.tum"), std::string::npos) << header;
+  EXPECT_EQ(first.rfind("1403715273.262142976 ", 0), 0u) << first;
+
+  // Unrevised: one file, and a stale per-frame file from an earlier run into the folder goes.
+  {
+    pipeline::RevisableTumFile f(path, "the conflicting frame");
+    f.add(t0, Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
+    f.finish();
+  }
+  EXPECT_EQ(readTum(path).size(), 1u);
+  EXPECT_FALSE(std::filesystem::exists(dir / "secondary_online.tum"));
+  EXPECT_THROW(pipeline::RevisableTumFile((dir / "missing" / "x.tum").string(), "x"), InputError);
+  std::filesystem::remove_all(dir);
 }
