@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
   estimator::SlidingWindowEstimator est(eo, seq.calibration);
   std::ofstream csv;
   if (argc > 5 && std::string(argv[5]) != "-") csv.open(argv[5]);
-  if (csv) csv << "t,state,chi2,tested,inconsistent,fraction,coherence,label,px,py,pz,gx,gy,gz,sec_valid,sz,bax,bay,baz,vx,vy,vz,drift,moving,split,score,tbax,tbay,tbaz,tvz,qerr_deg\n";
+  if (csv) csv << "t,state,chi2,tested,inconsistent,fraction,coherence,label,px,py,pz,gx,gy,gz,sec_valid,sz,bax,bay,baz,vx,vy,vz,drift,moving,split,score,tbax,tbay,tbaz,tvz,qerr_deg,residuals,landmarks\n";
   std::size_t k = 0, g = 0, li = 0;
   std::vector<Eigen::Vector3d> pe, pg;
   std::vector<Timestamp> pt;
@@ -113,6 +113,10 @@ int main(int argc, char** argv) {
       if (it == pt.end() || *it != rev.t) continue;
       const std::size_t i = static_cast<std::size_t>(it - pt.begin());
       max_revision = std::max(max_revision, (rev.p_WB - pe[i]).norm());
+      if (const char* dump = std::getenv("MCVIO_DUMP_REVISIONS")) {
+        static std::ofstream d(dump);
+        d << rev.t << ' ' << pe[i].transpose() << ' ' << rev.p_WB.transpose() << ' ' << pg[i].transpose() << '\n';
+      }
       pe[i] = rev.p_WB;
     }
     if (!out.revised_poses.empty() && std::getenv("MCVIO_PRINT_REVISIONS") != nullptr)
@@ -147,7 +151,8 @@ int main(int argc, char** argv) {
           << out.v_WB.z() << ',' << out.conflict.accel_bias_drift << ',' << moving_tracks[fi] << ','
           << out.conflict.split_chi2 << ',' << out.conflict.evidence_score << ',' << gt.bias_accel.x() << ','
           << gt.bias_accel.y() << ',' << gt.bias_accel.z() << ',' << gt.v_WB.z() << ','
-          << Eigen::AngleAxisd(gt.q_WB.conjugate() * out.q_WB).angle() * 180.0 / M_PI << '\n';
+          << Eigen::AngleAxisd(gt.q_WB.conjugate() * out.q_WB).angle() * 180.0 / M_PI << ','
+          << out.num_visual_residuals << ',' << out.num_landmarks << '\n';
   }
   const auto a = align4(pe, pg);
   double sq = 0, sqc = 0;
