@@ -75,6 +75,28 @@ void writePose(std::ostream& out, Timestamp t, const geometry_msgs::msg::dds_::P
 
 void writePose(std::ostream& out, const Odometry& o) { writePose(out, components::stampOf(o.header()), o.pose().pose()); }
 
+/// As `mcvio run`: NAME.tum is the final estimate (the last Path on `path_topic`, where conflict
+/// windows revised earlier poses), NAME_online.tum what `odometry_topic` said per frame. A path
+/// that does not hold every pose (its newest message lost) leaves the per-frame poses in NAME.tum.
+void writeFinalAndOnline(const fs::path& dir, const std::string& name, const std::string& what, const Path& path,
+                         const std::string& path_topic, const std::vector<Odometry>& per_frame,
+                         const std::string& odometry_topic) {
+  std::ofstream final_file(dir / (name + ".tum")), online(dir / (name + "_online.tum"));
+  if (!final_file || !online) throw InputError("cannot write into " + dir.string());
+  online << "# t x y z qx qy qz qw  (" << what << "; t in seconds; " << odometry_topic << " per frame)\n"
+         << std::setprecision(9) << std::fixed;
+  for (const auto& o : per_frame) writePose(online, o);
+  final_file << "# t x y z qx qy qz qw  (" << what << "; t in seconds; final estimate, the last " << path_topic << ")\n"
+             << std::setprecision(9) << std::fixed;
+  if (path.poses().size() == per_frame.size()) {
+    for (const auto& ps : path.poses()) writePose(final_file, components::stampOf(ps.header()), ps.pose());
+  } else {
+    std::cerr << "mcvio demo: warning: the last " << path_topic << " holds " << path.poses().size() << " poses, "
+              << odometry_topic << " " << per_frame.size() << "; " << name << ".tum is the per-frame odometry\n";
+    for (const auto& o : per_frame) writePose(final_file, o);
+  }
+}
+
 const char* stateName(std::uint8_t state) {
   switch (state) {
     case 0: return "none";
@@ -347,24 +369,12 @@ void DemoPipeline::runOverDds(const Sequence& s, SequenceResult& r) const {
 
   std::lock_guard<std::mutex> lock(m);
   r.mcvio_poses = odometry.size();
-  std::ofstream tum(s.mcvio_dir / "trajectory.tum"), online(s.mcvio_dir / "trajectory_online.tum"),
-      csv(s.mcvio_dir / "conflict.csv"), sec(s.mcvio_dir / "secondary.tum"),
-      sec_online(s.mcvio_dir / "secondary_online.tum");
-  if (!tum || !online || !csv || !sec || !sec_online) throw InputError("cannot write into " + s.mcvio_dir.string());
-  // As `mcvio run`: trajectory.tum is the final estimate (the last /mcvio/path, where conflict
-  // windows revised earlier poses), trajectory_online.tum what /mcvio/odometry said per frame.
-  online << "# t x y z qx qy qz qw  (pose of imu0 in world; t in seconds; /mcvio/odometry per frame)\n"
-         << std::setprecision(9) << std::fixed;
-  for (const auto& o : odometry) writePose(online, o);
-  tum << "# t x y z qx qy qz qw  (pose of imu0 in world; t in seconds; final estimate, the last /mcvio/path)\n"
-      << std::setprecision(9) << std::fixed;
-  if (path.poses().size() == odometry.size()) {
-    for (const auto& ps : path.poses()) writePose(tum, components::stampOf(ps.header()), ps.pose());
-  } else {
-    std::cerr << "mcvio demo: warning: the last /mcvio/path holds " << path.poses().size() << " poses, /mcvio/odometry "
-              << odometry.size() << "; trajectory.tum is the per-frame odometry\n";
-    for (const auto& o : odometry) writePose(tum, o);
-  }
+  std::ofstream csv(s.mcvio_dir / "conflict.csv");
+  if (!csv) throw InputError("cannot write into " + s.mcvio_dir.string());
+  writeFinalAndOnline(s.mcvio_dir, "trajectory", "pose of imu0 in world", path, "/mcvio/path", odometry,
+                      "/mcvio/odometry");
+  writeFinalAndOnline(s.mcvio_dir, "secondary", "the conflicting frame S in world, identity at the interval start",
+                      secondary_path, "/mcvio/secondary_path", secondary, "/mcvio/secondary_odometry");
   csv << pipeline::kConflictCsvHeader;
   for (const auto& c : conflicts) {
     csv << components::stampOf(c.header()) << ',' << stateName(c.state()) << ',' << c.propagated_chi2() << ','
@@ -373,21 +383,6 @@ void DemoPipeline::runOverDds(const Sequence& s, SequenceResult& r) const {
         << c.resolution_mode() << ',' << nanosOf(c.interval_onset()) << ',' << nanosOf(c.interval_end()) << ','
         << c.frontend_checked() << ',' << c.frontend_inconsistent() << ',' << c.accel_bias_drift() << ','
         << c.split_chi2() << ',' << c.evidence_score() << '\n';
-  }
-  sec_online << "# t x y z qx qy qz qw  (the conflicting frame S in world, identity at the interval start; t in "
-                "seconds; /mcvio/secondary_odometry per frame)\n"
-             << std::setprecision(9) << std::fixed;
-  for (const auto& o : secondary) writePose(sec_online, o);
-  sec << "# t x y z qx qy qz qw  (the conflicting frame S in world, identity at the interval start; t in seconds; "
-         "final estimate, the last /mcvio/secondary_path)\n"
-      << std::setprecision(9) << std::fixed;
-  if (secondary_path.poses().size() == secondary.size()) {
-    for (const auto& ps : secondary_path.poses()) writePose(sec, components::stampOf(ps.header()), ps.pose());
-  } else {
-    std::cerr << "mcvio demo: warning: the last /mcvio/secondary_path holds " << secondary_path.poses().size()
-              << " poses, /mcvio/secondary_odometry " << secondary.size()
-              << "; secondary.tum is the per-frame odometry\n";
-    for (const auto& o : secondary) writePose(sec, o);
   }
   std::cout << "  DDS run: " << stats.frames_received << " feature frames, " << stats.poses_published << " poses ("
             << stats.conflict_frames << " in conflict, " << stats.resets << " resets) in " << fixed(r.dds_s, 1)
