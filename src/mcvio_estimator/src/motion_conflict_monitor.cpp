@@ -442,13 +442,15 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   // The interval the bias-drift detector opened goes on while the conflicting frame accelerates
   // as fast as the drift limit (the horizon's tests miss a gentle ride as they did before), until
   // the frame is fast enough for the speed hold below. Until that acceleration can be measured
-  // over bias_reference_lag_frames, the drift that opened the interval stands.
+  // over bias_reference_lag_frames, the drift that opened the interval stands. Only acceleration
+  // along the drift counts: a ride goes on the way the bias bent to explain it, while a held bias
+  // a slow object had bent drifts the inertial estimate any way once the object stops.
   if (options_.bias_drift_sigmas > 0 && imu_dominated_ && drift_opened_ && !speed_hold_engaged_) {
     const std::size_t lag = static_cast<std::size_t>(std::max(1, options_.bias_reference_lag_frames));
     if (secondary_.valid() && history_.size() >= lag && history_[history_.size() - lag].secondary_valid) {
       const Entry& then = history_[history_.size() - lag];
       const double span = toSeconds(t - then.t);
-      const double accel = span > 0 ? (secondary_.v_WS() - then.v_WS).norm() / span : 0.0;
+      const double accel = span > 0 ? (secondary_.v_WS() - then.v_WS).dot(drift_direction_W_) / span : 0.0;
       if (accel >= options_.bias_drift_sigmas * options_.accel_bias_sigma) evidence = true;
     } else {
       evidence = true;
@@ -574,6 +576,11 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     if (want_imu) {
       imu_dominated_ = true;
       drift_opened_ = drift_fired;
+      // The estimator explains an acceleration a vision does not see as the bias b + R^T a: the
+      // bend, rotated into the world, points along the conflicting frame's acceleration.
+      if (drift_fired)
+        drift_direction_W_ =
+            (history_.back().state.q * (history_.back().state.bias.accel - reference_bias_.accel)).normalized();
       speed_hold_engaged_ = false;
       speed_hold_holding_ = false;
       peak_secondary_velocity_.setZero();

@@ -7,6 +7,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <memory>
 #include <random>
 #include <set>
 #include <vector>
@@ -116,6 +117,9 @@ struct Scenario {
   /// The frontend's verdicts reach the monitor (every cam0 track checked); off: none, as from a
   /// frontend without the check.
   bool frontend_labels = false;
+  /// Changes the state committed for frame k from the truth to what an estimator would commit
+  /// after that decision (an inertial drift inside an IMU-dominated interval); none: the truth.
+  std::function<void(int, const MotionConflictMonitor::Decision&, MotionConflictMonitor::State*)> commit_adjust;
 };
 
 /// Static points ahead of the device (it moves along body x, which cam0 looks along).
@@ -206,6 +210,7 @@ std::vector<Frame> run(const Scenario& sc, const conflict::ConflictOptions& opti
     truth.p = sc.traj.position(s);
     truth.v = sc.traj.velocity(s);
     truth.bias = sc.committed_bias ? sc.committed_bias(k) : sc.imu_bias;
+    if (sc.commit_adjust) sc.commit_adjust(k, f.decision, &truth);
     monitor.commit(truth, &f.decision.report);
     out.push_back(std::move(f));
   }
@@ -994,6 +999,57 @@ TEST(MotionConflictMonitor, ABriskBiasBendIsEvidenceWithinTwoFrames) {
   ASSERT_LT(occluded[kBendFrame + 5].decision.report.landmarks_tested, o.auto_min_tested_landmarks);
   const int opened_few = firstFrame(occluded, inConflict);
   EXPECT_TRUE(opened_few < 0 || opened_few >= kBendFrame + o.bias_drift_min_frames) << opened_few;
+}
+
+TEST(MotionConflictMonitor, ADriftIntervalStaysOpenOnlyWhileTheFrameAcceleratesAlongTheBend) {
+  // A static world, the sensor's bias zero. The committed accelerometer bias stands `offset` in z
+  // before kRampFrame (the reference bias the interval will hold), then ramps up by 0.0045 m/s^2
+  // per frame until the bias-drift detector opens an IMU-dominated interval. Inside it the
+  // committed (inertial) estimate accelerates at -offset: along the bend (+z) for a negative
+  // offset, as a cabin the bend explained would, against it for a positive one, as after a slow
+  // object that bent the bias and stopped. Both exceed the hold's limit (2.5 x 0.02 m/s^2).
+  constexpr int kRampFrame = 230;
+  conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
+  ASSERT_DOUBLE_EQ(o.bias_drift_sigmas * o.accel_bias_sigma, 0.05);
+  const int total = kRampFrame + 140;
+  auto run_with_offset = [&](double offset, int* opened) {
+    Scenario sc;
+    sc.points = staticPoints(80, 0, 11);
+    sc.committed_bias = [=](int k) {
+      ImuBias b;
+      b.accel.z() = offset + std::max(0, k - kRampFrame) * 0.0045;
+      return b;
+    };
+    auto since = std::make_shared<int>(-1);
+    sc.commit_adjust = [=](int k, const MotionConflictMonitor::Decision& d, MotionConflictMonitor::State* s) {
+      if (!d.imu_dominated) {
+        *since = -1;
+        return;
+      }
+      if (*since < 0) *since = k;
+      const double dt = frameSeconds(k) - frameSeconds(*since);
+      s->v.z() = -offset * dt;
+      s->p.z() = -0.5 * offset * dt * dt;
+    };
+    const auto frames = run(sc, o, total);
+    *opened = firstFrame(frames, [](const Frame& f) { return f.decision.imu_dominated; });
+    return frames;
+  };
+  int opened_along = -1, opened_against = -1;
+  const auto along = run_with_offset(-0.08, &opened_along);
+  const auto against = run_with_offset(0.08, &opened_against);
+  for (const int opened : {opened_along, opened_against}) {
+    ASSERT_GT(opened, kRampFrame) << "the offset alone is no evidence";
+    ASSERT_LT(opened, kRampFrame + 60);
+  }
+  // Along the bend the interval holds until the end (the speed hold would need 0.5 m/s: 6 s).
+  for (int k = opened_along; k < total; ++k) EXPECT_TRUE(along[k].decision.imu_dominated) << "frame " << k;
+  // Against it the interval closes soon after the acceleration can be measured (40 frames).
+  const int closed = firstFrame(against, [&](const Frame& f) {
+    return &f - against.data() > opened_against && !f.decision.imu_dominated;
+  });
+  ASSERT_GT(closed, opened_against);
+  EXPECT_LE(closed, opened_against + o.bias_reference_lag_frames + o.exit_frames + 5);
 }
 
 TEST(MotionConflictMonitor, ABiasBendWithAMovingGroupInViewIsLeftToTheOtherDetectors) {

@@ -177,6 +177,7 @@ class MotionConflictMonitor {
   bool have_pending_ = false;
   bool imu_dominated_ = false;
   bool drift_opened_ = false;  ///< the bias-drift detector opened the IMU-dominated interval
+  Eigen::Vector3d drift_direction_W_ = Eigen::Vector3d::Zero();  ///< of the bias bend that opened it, world frame
   bool entered_on_drift_ = false;  ///< the bias drift fired on the open interval's first frame
   bool speed_hold_engaged_ = false;  ///< the secondary speed has held the interval open
   bool speed_hold_holding_ = false;  ///< ... and did on the last frame
