@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
   estimator::SlidingWindowEstimator est(eo, seq.calibration);
   std::ofstream csv;
   if (argc > 5 && std::string(argv[5]) != "-") csv.open(argv[5]);
-  if (csv) csv << "t,state,chi2,tested,inconsistent,fraction,coherence,label,px,py,pz,gx,gy,gz,sec_valid,sz,bax,bay,baz,vx,vy,vz,drift,moving,split,score,tbax,tbay,tbaz,tvz,qerr_deg,residuals,landmarks\n";
+  if (csv) csv << "t,state,chi2,tested,inconsistent,fraction,coherence,label,px,py,pz,gx,gy,gz,sec_valid,sz,bax,bay,baz,vx,vy,vz,drift,moving,split,score,tbax,tbay,tbaz,tvz,qerr_deg,residuals,landmarks,tilt_deg,tiltx,tilty\n";
   std::size_t k = 0, g = 0, li = 0;
   std::vector<Eigen::Vector3d> pe, pg;
   std::vector<Timestamp> pt;
@@ -152,7 +152,9 @@ int main(int argc, char** argv) {
           << out.conflict.split_chi2 << ',' << out.conflict.evidence_score << ',' << gt.bias_accel.x() << ','
           << gt.bias_accel.y() << ',' << gt.bias_accel.z() << ',' << gt.v_WB.z() << ','
           << Eigen::AngleAxisd(gt.q_WB.conjugate() * out.q_WB).angle() * 180.0 / M_PI << ','
-          << out.num_visual_residuals << ',' << out.num_landmarks << '\n';
+          << out.num_visual_residuals << ',' << out.num_landmarks << ','
+          << std::acos(std::clamp((out.q_WB.conjugate() * Eigen::Vector3d::UnitZ()).dot(gt.q_WB.conjugate() * Eigen::Vector3d::UnitZ()), -1.0, 1.0)) * 180.0 / M_PI << ','
+          << (gt.q_WB * (out.q_WB.conjugate() * Eigen::Vector3d::UnitZ())).x() << ',' << (gt.q_WB * (out.q_WB.conjugate() * Eigen::Vector3d::UnitZ())).y() << '\n';
   }
   const auto a = align4(pe, pg);
   double sq = 0, sqc = 0;
