@@ -106,11 +106,6 @@ void ConflictOptions::validate() const {
           smoothing_max_acceleration_correction);
   require(smoothing_held_acceleration_sigma > 0, "smoothing_held_acceleration_sigma", "must be > 0",
           smoothing_held_acceleration_sigma);
-  require(smoothing_tilt_acceleration_sigma >= 0, "smoothing_tilt_acceleration_sigma", "must be >= 0",
-          smoothing_tilt_acceleration_sigma);
-  require(smoothing_tilt_acceleration_rate_sigma >= 0, "smoothing_tilt_acceleration_rate_sigma", "must be >= 0",
-          smoothing_tilt_acceleration_rate_sigma);
-  require(smoothing_velocity_sigma > 0, "smoothing_velocity_sigma", "must be > 0", smoothing_velocity_sigma);
   require(auto_split_fraction > 0 && auto_split_fraction <= 1, "auto_split_fraction", "must be in (0, 1]",
           auto_split_fraction);
   require(selective_strikes >= 1, "selective_strikes", "must be >= 1", selective_strikes);
@@ -213,9 +208,6 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("restart_min_velocity_jump_mps", &o.restart_min_velocity_jump_mps);
   read("smoothing_max_acceleration_correction", &o.smoothing_max_acceleration_correction);
   read("smoothing_held_acceleration_sigma", &o.smoothing_held_acceleration_sigma);
-  read("smoothing_tilt_acceleration_sigma", &o.smoothing_tilt_acceleration_sigma);
-  read("smoothing_tilt_acceleration_rate_sigma", &o.smoothing_tilt_acceleration_rate_sigma);
-  read("smoothing_velocity_sigma", &o.smoothing_velocity_sigma);
   for (const auto& kv : node) {
     const std::string key = kv.first.as<std::string>();
     if (known.count(key) == 0) throw InputError(context + ": unknown conflict option '" + key + "'");

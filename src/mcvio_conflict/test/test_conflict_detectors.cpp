@@ -556,16 +556,6 @@ TEST(ConflictOptions, YamlErrorsNameTheKey) {
                    0.02);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_held_acceleration_sigma: 0")), InputError);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_held_acceleration_sigma: .nan")), InputError);
-  EXPECT_DOUBLE_EQ(ConflictOptions::fromYaml(YAML::Load("smoothing_tilt_acceleration_sigma: 0"))
-                       .smoothing_tilt_acceleration_sigma,
-                   0.0);
-  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_tilt_acceleration_sigma: -0.01")), InputError);
-  EXPECT_DOUBLE_EQ(ConflictOptions::fromYaml(YAML::Load("smoothing_tilt_acceleration_rate_sigma: 0.003"))
-                       .smoothing_tilt_acceleration_rate_sigma,
-                   0.003);
-  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_tilt_acceleration_rate_sigma: .inf")), InputError);
-  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_velocity_sigma: 0")), InputError);
-  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_velocity_sigma: abc")), InputError);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("frontend_labels_outside_min_count: 0")), InputError);
   EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("frontend_labels_outside_min_count: 3")).frontend_labels_outside_min_count, 3);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("frontend_labels_after_conflict_frames: -1")), InputError);

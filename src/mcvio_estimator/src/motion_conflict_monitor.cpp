@@ -33,9 +33,6 @@ ConflictIntervalSmoother::Options smootherOptions(const conflict::ConflictOption
   s.settle_frames = o.smoothing_settle_frames;
   s.max_acceleration_correction = o.smoothing_max_acceleration_correction;
   s.held_acceleration_sigma = o.smoothing_held_acceleration_sigma;
-  s.tilt_acceleration_sigma = o.smoothing_tilt_acceleration_sigma;
-  s.tilt_acceleration_rate_sigma = o.smoothing_tilt_acceleration_rate_sigma;
-  s.velocity_sigma = o.smoothing_velocity_sigma;
   return s;
 }
 
@@ -616,7 +613,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
           smoother_.resumeInterval();
         } else {
           smoother_.begin(start->t, start->state.p, start->state.q, start->state.v, held_bias_);
-          for (std::size_t i = idx + 1; i < history_.size(); ++i) smoother_.addFrame(history_[i].t, history_[i].state.q, true);
+          for (std::size_t i = idx + 1; i < history_.size(); ++i) smoother_.addFrame(history_[i].t, history_[i].state.q);
         }
         for (std::size_t i = idx + 1; i < history_.size(); ++i)
           secondary_.addVisionIncrement(history_[i].vision_increment, history_[i].vision_increment_valid);

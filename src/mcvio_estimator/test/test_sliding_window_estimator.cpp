@@ -348,9 +348,6 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_EQ(c.split_bias_hold, dc.split_bias_hold);
   EXPECT_EQ(c.vision_depth_weighting, dc.vision_depth_weighting);
   EXPECT_DOUBLE_EQ(c.smoothing_held_acceleration_sigma, dc.smoothing_held_acceleration_sigma);
-  EXPECT_DOUBLE_EQ(c.smoothing_tilt_acceleration_sigma, dc.smoothing_tilt_acceleration_sigma);
-  EXPECT_DOUBLE_EQ(c.smoothing_tilt_acceleration_rate_sigma, dc.smoothing_tilt_acceleration_rate_sigma);
-  EXPECT_DOUBLE_EQ(c.smoothing_velocity_sigma, dc.smoothing_velocity_sigma);
   EXPECT_EQ(c.frontend_labels_outside_min_count, dc.frontend_labels_outside_min_count);
   EXPECT_EQ(c.frontend_labels_after_conflict_frames, dc.frontend_labels_after_conflict_frames);
   EXPECT_EQ(c.partial_min_count, dc.partial_min_count);
@@ -372,7 +369,7 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_DOUBLE_EQ(c.rotation_chi2_threshold, dc.rotation_chi2_threshold);
   EXPECT_EQ(c.exit_velocity_frames, dc.exit_velocity_frames);
   EXPECT_EQ(c.exit_velocity_frames_after_hold, dc.exit_velocity_frames_after_hold);
-  EXPECT_EQ(root["conflict"].size(), 71u) << "every conflict option appears once";
+  EXPECT_EQ(root["conflict"].size(), 68u) << "every conflict option appears once";
 }
 
 }  // namespace

@@ -265,27 +265,20 @@ struct ConflictOptions {
   bool restart_on_exit = true;
   double restart_min_velocity_jump_mps = 0.2;
   /// The conflict window (triple window): after an IMU-dominated interval, once vision has held
-  /// the velocity for smoothing_settle_frames, the interval is re-integrated with the acceleration
-  /// correction that explains that velocity under a model of the inertial error (a tilt leaking
-  /// gravity sideways, the held accelerometer bias's error and its random walk; the sigmas below),
-  /// and the window is moved onto the corrected position. Corrections above
-  /// smoothing_max_acceleration_correction [m/s^2] are refused.
+  /// the velocity for smoothing_settle_frames, the interval is re-integrated with the world-frame
+  /// acceleration correction that matches that velocity (growing over the window as the held
+  /// bias's error does, see smoothing_held_acceleration_sigma), and the window is moved onto the
+  /// corrected position. Corrections above smoothing_max_acceleration_correction [m/s^2] are
+  /// refused.
   bool smoothing_enabled = true;
   int smoothing_settle_frames = 20;
   double smoothing_max_acceleration_correction = 0.2;
-  /// How far the held accelerometer bias is off when the interval opens [m/s^2, per axis, body
-  /// frame]. The true bias keeps walking (the IMU's accelerometer random walk) while the held one
-  /// stays, so the correction grows over the window. Measured on the feature-level simulator
-  /// (elevator, vehicle, self-occlusion, seeds 1-9): 0.011 m/s^2 RMS per axis when the intervals open.
-  double smoothing_held_acceleration_sigma = 0.011;
-  /// The attitude's tilt error leaks gravity sideways: this much when the interval opens [m/s^2,
-  /// per horizontal axis] and growing at smoothing_tilt_acceleration_rate_sigma [m/s^3] inside it
-  /// (the held gyro bias turns the attitude). Measured the same way over the 27 intervals: 0.0103
-  /// m/s^2 and 0.00155 m/s^3 RMS per axis.
-  double smoothing_tilt_acceleration_sigma = 0.0103;
-  double smoothing_tilt_acceleration_rate_sigma = 0.00155;
-  /// The error of vision's velocity over the settling frames, all of them together [m/s].
-  double smoothing_velocity_sigma = 0.01;
+  /// How far the held accelerometer bias (and gravity's removal) may be off when the interval
+  /// opens [m/s^2]. The true bias keeps walking (the IMU's accelerometer random walk) while the
+  /// held one stays, so the correction grows over the window; against this sigma that growth
+  /// sets its shape (large: constant). Measured on the feature-level simulator (elevator, vehicle,
+  /// self-occlusion, seeds 1-9): 0.011 m/s^2 RMS per axis when the intervals open.
+  double smoothing_held_acceleration_sigma = 0.01;
 
   void validate() const;
   static ConflictOptions fromYaml(const YAML::Node& node, const std::string& context = "conflict options");
