@@ -140,6 +140,11 @@ int main(int argc, char** argv) {
       if (out.conflict.secondary_valid) sec_z_end = out.conflict.p_WS.z();
     }
     const auto& gt = seq.ground_truth[g];
+    // Tilt error: the estimated and true "up" in the body, and the estimated one in the true world
+    // frame (its horizontal part times g is the gravity the tilt leaks sideways).
+    const Eigen::Vector3d up_est_B = out.q_WB.conjugate() * Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d up_true_B = gt.q_WB.conjugate() * Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d up_est_W = gt.q_WB * up_est_B;
     if (csv)
       csv << f.t << ',' << int(out.conflict.state) << ',' << out.conflict.propagated_chi2 << ','
           << out.conflict.landmarks_tested << ',' << out.conflict.landmarks_inconsistent << ','
@@ -153,8 +158,8 @@ int main(int argc, char** argv) {
           << gt.bias_accel.y() << ',' << gt.bias_accel.z() << ',' << gt.v_WB.z() << ','
           << Eigen::AngleAxisd(gt.q_WB.conjugate() * out.q_WB).angle() * 180.0 / M_PI << ','
           << out.num_visual_residuals << ',' << out.num_landmarks << ','
-          << std::acos(std::clamp((out.q_WB.conjugate() * Eigen::Vector3d::UnitZ()).dot(gt.q_WB.conjugate() * Eigen::Vector3d::UnitZ()), -1.0, 1.0)) * 180.0 / M_PI << ','
-          << (gt.q_WB * (out.q_WB.conjugate() * Eigen::Vector3d::UnitZ())).x() << ',' << (gt.q_WB * (out.q_WB.conjugate() * Eigen::Vector3d::UnitZ())).y() << '\n';
+          << std::acos(std::clamp(up_est_B.dot(up_true_B), -1.0, 1.0)) * 180.0 / M_PI << ',' << up_est_W.x() << ','
+          << up_est_W.y() << '\n';
   }
   const auto a = align4(pe, pg);
   double sq = 0, sqc = 0;
