@@ -106,6 +106,10 @@ void ConflictOptions::validate() const {
           smoothing_max_acceleration_correction);
   require(smoothing_held_acceleration_sigma > 0, "smoothing_held_acceleration_sigma", "must be > 0",
           smoothing_held_acceleration_sigma);
+  require(smoothing_reidentified_min_landmarks >= 0, "smoothing_reidentified_min_landmarks", "must be >= 0",
+          smoothing_reidentified_min_landmarks);
+  require(smoothing_settled_velocity_sigma > 0, "smoothing_settled_velocity_sigma", "must be > 0",
+          smoothing_settled_velocity_sigma);
   require(auto_split_fraction > 0 && auto_split_fraction <= 1, "auto_split_fraction", "must be in (0, 1]",
           auto_split_fraction);
   require(selective_strikes >= 1, "selective_strikes", "must be >= 1", selective_strikes);
@@ -208,6 +212,8 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("restart_min_velocity_jump_mps", &o.restart_min_velocity_jump_mps);
   read("smoothing_max_acceleration_correction", &o.smoothing_max_acceleration_correction);
   read("smoothing_held_acceleration_sigma", &o.smoothing_held_acceleration_sigma);
+  read("smoothing_reidentified_min_landmarks", &o.smoothing_reidentified_min_landmarks);
+  read("smoothing_settled_velocity_sigma", &o.smoothing_settled_velocity_sigma);
   for (const auto& kv : node) {
     const std::string key = kv.first.as<std::string>();
     if (known.count(key) == 0) throw InputError(context + ": unknown conflict option '" + key + "'");

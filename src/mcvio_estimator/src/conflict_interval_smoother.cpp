@@ -54,7 +54,8 @@ bool ConflictIntervalSmoother::ready() const {
 ConflictIntervalSmoother::Result ConflictIntervalSmoother::finish(const ImuBuffer& imu, const ImuNoiseParams& noise,
                                                                   const Eigen::Vector3d& gravity,
                                                                   const Eigen::Vector3d& p_end,
-                                                                  const std::vector<SettledVelocity>& settled) {
+                                                                  const std::vector<SettledVelocity>& settled,
+                                                                  const ReidentifiedEnd* reidentified) {
   Result res;
   active_ = false;
   if (frames_.empty()) {
@@ -64,24 +65,24 @@ ConflictIntervalSmoother::Result ConflictIntervalSmoother::finish(const ImuBuffe
   // Inertial propagation over the window, and the Jacobians of velocity and position with respect
   // to one acceleration correction in the world frame, scaled over time by its expected growth:
   // shape(tau) = (sigma0^2 + q (tau - tau^2 / 2T)) / (sigma0^2 + q T / 2), 1 at the end T.
+  // Columns 3-8: a constant and a ramp tau / T, the two terms fitted with a re-identified end.
   const double window_s = toSeconds(frames_.back().t - t0_);
   const double sigma0_sq = options_.held_acceleration_sigma * options_.held_acceleration_sigma;
   const double q = noise.accelerometer_random_walk * noise.accelerometer_random_walk;
   const auto shape = [&](double tau) {
     return (sigma0_sq + q * (tau - tau * tau / (2.0 * window_s))) / (sigma0_sq + q * window_s / 2.0);
   };
+  using Jacobian = Eigen::Matrix<double, 3, 9>;
   Eigen::Vector3d p = p0_, v = v0_;
-  Eigen::Matrix3d Jp = Eigen::Matrix3d::Zero(), Jv = Eigen::Matrix3d::Zero();
+  Jacobian Jp = Jacobian::Zero(), Jv = Jacobian::Zero();
   Eigen::Matrix3d R = q0_.toRotationMatrix();
   Timestamp t = t0_;
   std::vector<Eigen::Vector3d> positions;
-  std::vector<Eigen::Matrix3d> jacobians;
+  std::vector<Jacobian> jacobians;
   positions.reserve(frames_.size());
   jacobians.reserve(frames_.size());
   std::vector<ImuSample> samples;
-  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
-  std::size_t fitted = 0;
+  std::vector<std::pair<Jacobian, Eigen::Vector3d>> velocity_rows;  // Jv and the velocity error
   for (const auto& f : frames_) {
     if (!imu.extract(t, f.t, &samples) || samples.size() < 2) {
       std::ostringstream os;
@@ -92,49 +93,90 @@ ConflictIntervalSmoother::Result ConflictIntervalSmoother::finish(const ImuBuffe
     ImuPreintegrator pre(bias_, noise);
     for (const auto& s : samples) pre.integrate(s);
     const double dt = pre.deltaTime();
-    const double g = shape(toSeconds(t - t0_) + 0.5 * dt);
+    const double tau = toSeconds(t - t0_) + 0.5 * dt;
+    const Eigen::Vector3d g(shape(tau), 1.0, window_s > 0 ? tau / window_s : 0.0);
     p += v * dt + 0.5 * gravity * dt * dt + R * pre.deltaP();
-    Jp += Jv * dt + 0.5 * dt * dt * g * Eigen::Matrix3d::Identity();
-    Jv += dt * g * Eigen::Matrix3d::Identity();
+    for (int k = 0; k < 3; ++k) {
+      Jp.block<3, 3>(0, 3 * k) += Jv.block<3, 3>(0, 3 * k) * dt + 0.5 * dt * dt * g[k] * Eigen::Matrix3d::Identity();
+      Jv.block<3, 3>(0, 3 * k) += dt * g[k] * Eigen::Matrix3d::Identity();
+    }
     v += gravity * dt + R * pre.deltaV();
     positions.push_back(p);
     jacobians.push_back(Jp);
     for (const auto& sv : settled)
-      if (sv.t == f.t) {
-        normal += Jv.transpose() * Jv;
-        rhs += Jv.transpose() * (sv.v - v);
-        ++fitted;
-      }
+      if (sv.t == f.t) velocity_rows.emplace_back(Jv, sv.v - v);
     R = f.q.toRotationMatrix();
     t = f.t;
   }
   // The correction that makes the inertial velocities after the exit the visual ones.
+  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+  for (const auto& [J, e] : velocity_rows) {
+    normal += J.leftCols<3>().transpose() * J.leftCols<3>();
+    rhs += J.leftCols<3>().transpose() * e;
+  }
   const Eigen::FullPivLU<Eigen::Matrix3d> lu(normal);
-  if (fitted == 0 || !lu.isInvertible()) {
+  if (velocity_rows.empty() || !lu.isInvertible()) {
     res.message = "no settled velocity to fit the conflict window to";
     return res;
   }
-  const Eigen::Vector3d db = lu.solve(rhs);
-  if (!db.allFinite() || db.norm() > options_.max_acceleration_correction) {
+  Eigen::Matrix<double, 9, 1> c = Eigen::Matrix<double, 9, 1>::Zero();
+  c.head<3>() = lu.solve(rhs);
+  double largest = c.head<3>().norm();
+  std::ostringstream note;
+  if (reidentified != nullptr) {
+    // Would a held bias error explain where vision puts the end? sigma0 T^2 / 2 per axis.
+    const Eigen::Vector3d miss = reidentified->p - (positions.back() + jacobians.back() * c);
+    const double gate = 3.0 * (0.5 * options_.held_acceleration_sigma * window_s * window_s + reidentified->sigma);
+    if (miss.norm() > gate) {
+      note << "; the end position from " << reidentified->landmarks << " re-identified landmarks is " << miss.norm()
+           << " m off (more than " << gate << " m), not used";
+    } else {
+      // Constant and ramp against the settled velocities and the end position, each row weighed
+      // by its sigma.
+      Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
+      Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
+      const double wv = 1.0 / (options_.settled_velocity_sigma * options_.settled_velocity_sigma);
+      for (const auto& [J, e] : velocity_rows) {
+        A += wv * J.rightCols<6>().transpose() * J.rightCols<6>();
+        b += wv * J.rightCols<6>().transpose() * e;
+      }
+      const double wp = 1.0 / (reidentified->sigma * reidentified->sigma);
+      const auto Jend = jacobians.back().rightCols<6>();
+      A += wp * Jend.transpose() * Jend;
+      b += wp * Jend.transpose() * (reidentified->p - positions.back());
+      const Eigen::FullPivLU<Eigen::Matrix<double, 6, 6>> lu6(A);
+      if (lu6.isInvertible()) {
+        c.setZero();
+        c.tail<6>() = lu6.solve(b);
+        largest = std::max(c.segment<3>(3).norm(), (c.segment<3>(3) + c.segment<3>(6)).norm());
+        res.used_reidentified = true;
+        note << "; end position from " << reidentified->landmarks << " re-identified landmarks ("
+             << miss.norm() << " m from the velocity fit)";
+      }
+    }
+  }
+  if (!c.allFinite() || largest > options_.max_acceleration_correction) {
     std::ostringstream os;
-    os << "acceleration correction of " << db.norm() << " m/s^2 exceeds smoothing_max_acceleration_correction "
+    os << "acceleration correction of " << largest << " m/s^2 exceeds smoothing_max_acceleration_correction "
        << options_.max_acceleration_correction << " (the end velocity is not the world's); window left as estimated";
     res.message = os.str();
+    res.used_reidentified = false;
     return res;
   }
   res.revisions.reserve(frames_.size());
   for (std::size_t i = 0; i < frames_.size(); ++i) {
     const Node& n = frames_[i];
-    const Eigen::Vector3d p_revised = positions[i] + jacobians[i] * db;
+    const Eigen::Vector3d p_revised = positions[i] + jacobians[i] * c;
     res.revisions.push_back({n.t, p_revised, n.q});
     if (n.has_secondary) res.secondary_revisions.push_back({n.t, n.p_WS + (p_revised - n.p_WB), n.q_WS});
   }
-  res.acceleration_correction = db;
+  res.acceleration_correction = c.head<3>() + c.segment<3>(3) + c.segment<3>(6);
   res.shift = res.revisions.back().p_WB - p_end;
   res.applied = res.shift.allFinite();
   std::ostringstream os;
-  os << "conflict window of " << toSeconds(frames_.back().t - t0_) << " s smoothed: acceleration correction "
-     << db.norm() << " m/s^2, end position moved " << res.shift.norm() << " m";
+  os << "conflict window of " << window_s << " s smoothed: acceleration correction " << largest
+     << " m/s^2, end position moved " << res.shift.norm() << " m" << note.str();
   res.message = os.str();
   return res;
 }

@@ -33,6 +33,7 @@ ConflictIntervalSmoother::Options smootherOptions(const conflict::ConflictOption
   s.settle_frames = o.smoothing_settle_frames;
   s.max_acceleration_correction = o.smoothing_max_acceleration_correction;
   s.held_acceleration_sigma = o.smoothing_held_acceleration_sigma;
+  s.settled_velocity_sigma = o.smoothing_settled_velocity_sigma;
   return s;
 }
 
@@ -91,7 +92,8 @@ Timestamp MotionConflictMonitor::oldestTimeNeeded() const {
   return smoother_.active() ? std::min(oldest, smoother_.startTime()) : oldest;
 }
 
-ConflictIntervalSmoother::Result MotionConflictMonitor::smoothInterval(const ImuBuffer& imu) {
+ConflictIntervalSmoother::Result MotionConflictMonitor::smoothInterval(
+    const ImuBuffer& imu, const ConflictIntervalSmoother::ReidentifiedEnd* reidentified) {
   if (history_.empty()) {
     smoother_.cancel();
     return {};
@@ -100,7 +102,7 @@ ConflictIntervalSmoother::Result MotionConflictMonitor::smoothInterval(const Imu
   std::vector<ConflictIntervalSmoother::SettledVelocity> settled;
   const std::size_t n = std::min(history_.size(), static_cast<std::size_t>(std::max(1, options_.smoothing_settle_frames / 2)));
   for (std::size_t i = history_.size() - n; i < history_.size(); ++i) settled.push_back({history_[i].t, history_[i].state.v});
-  auto res = smoother_.finish(imu, imu_noise_, gravity_, history_.back().state.p, settled);
+  auto res = smoother_.finish(imu, imu_noise_, gravity_, history_.back().state.p, settled, reidentified);
   if (res.applied)
     for (auto& e : history_) e.state.p += res.shift;
   return res;

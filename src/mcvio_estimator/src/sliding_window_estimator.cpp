@@ -957,11 +957,17 @@ void SlidingWindowEstimator::marginalizeOldestKeyframe() {
     if (take) records.push_back(&r);
   }
   marginalizeWith(records, drop);
-  for (auto t : dead) eraseLandmark(t);
+  for (auto t : dead) {
+    rememberLandmark(t, newest().t);
+    eraseLandmark(t);
+  }
   std::vector<std::uint64_t> lost;
   for (auto& [track, lm] : landmarks_)
     if (lm.anchor_frame == k0.id && !reanchor(lm, k0.id)) lost.push_back(track);
-  for (auto t : lost) eraseLandmark(t);
+  for (auto t : lost) {
+    rememberLandmark(t, newest().t);
+    eraseLandmark(t);
+  }
   for (auto& r : records_)
     if (r.frame_id == k0.id || (r.num_params > 1 && (r.params()[0] == k0.pose.data() || r.params()[1] == k0.pose.data())))
       r.valid = false;
@@ -981,6 +987,7 @@ void SlidingWindowEstimator::reset(const std::string& reason) {
   whole_prior_.reset();
   initialized_ = false;
   monitor_->reset();
+  map_memory_.clear();
   ++reset_count_;
 }
 
@@ -1005,6 +1012,13 @@ void SlidingWindowEstimator::applyConflictDecision(const MotionConflictMonitor::
     return s;
   };
   if (decision.rewind) {
+    // The map as it stood when the interval opened, in the frame its conflict window starts in.
+    if (options_.conflict.smoothing_reidentified_min_landmarks > 0)
+      for (const auto& [track, lm] : landmarks_) {
+        Eigen::Vector3d p_W;
+        if (!monitor_->isEliminated(track) && landmarkPointWorld(lm, &p_W))
+          map_memory_.remember(track, p_W, decision.rewind_t);
+      }
     // The rewound state is an estimate propagated over dt: its position spreads with the velocity.
     const double dt = toSeconds(cur.t - decision.rewind_t);
     restartFrom(cur, decision.rewind_state, restartSigmas(0.01 + c.velocity_sigma_mps * dt, c.attitude_sigma_rad));
@@ -1065,12 +1079,46 @@ void SlidingWindowEstimator::restartFrom(Frame& cur, const MotionConflictMonitor
   setStatePrior(cur, sigmas);
 }
 
+void SlidingWindowEstimator::rememberLandmark(std::uint64_t track_id, Timestamp t) {
+  if (options_.conflict.smoothing_reidentified_min_landmarks <= 0 || monitor_->conflictActive() ||
+      monitor_->isEliminated(track_id))
+    return;
+  const auto it = landmarks_.find(track_id);
+  Eigen::Vector3d p_W;
+  if (it != landmarks_.end() && landmarkPointWorld(it->second, &p_W)) map_memory_.remember(track_id, p_W, t);
+}
+
+bool SlidingWindowEstimator::reidentifiedEnd(const Eigen::Vector3d& p_end,
+                                             ConflictIntervalSmoother::ReidentifiedEnd* end) const {
+  const int needed = options_.conflict.smoothing_reidentified_min_landmarks;
+  if (needed <= 0 || map_memory_.size() == 0) return false;
+  const Timestamp opened = monitor_->smoothingStartTime();
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> pairs;
+  for (const auto& [track, lm] : landmarks_) {
+    const Eigen::Vector3d* before = map_memory_.find(track, opened);
+    Eigen::Vector3d now;
+    if (before != nullptr && landmarkPointWorld(lm, &now)) pairs.emplace_back(now, *before);
+  }
+  const MapMemory::Offset o = MapMemory::offsetOf(pairs, needed);
+  if (!o.valid) return false;
+  // The window drifted by o.offset against the map: the body did too.
+  end->p = p_end - o.offset;
+  end->sigma = o.sigma;
+  end->landmarks = o.inliers;
+  return true;
+}
+
 void SlidingWindowEstimator::smoothConflictWindow(EstimatorOutput* out) {
-  auto res = monitor_->smoothInterval(imu_);
+  ConflictIntervalSmoother::ReidentifiedEnd end;
+  const bool reidentified = reidentifiedEnd(out->p_WB, &end);
+  const Timestamp opened = monitor_->smoothingStartTime();
+  auto res = monitor_->smoothInterval(imu_, reidentified ? &end : nullptr);
   if (!res.applied) {
     spdlog::warn("{}{}", kLog, res.message);
     return;
   }
+  // What the map learned since the window opened moves with it.
+  map_memory_.shiftAfter(opened, res.shift);
   // A translation of the whole window: landmarks live in their anchor frames, and the prior keeps
   // its information if its linearisation point moves along.
   for (auto& f : frames_) Eigen::Map<Eigen::Vector3d>(f->pose.data()) += res.shift;

@@ -59,6 +59,8 @@ int main(int argc, char** argv) {
   if (argc > 7) so.scenario.duration_s = std::atof(argv[7]);
   if (argc > 8) so.scenario.travel_m = std::atof(argv[8]);
   sim::FeatureSimulatorOptions fo;
+  // A frontend that re-identifies lost landmarks, with this probability (FeatureSimulatorOptions).
+  if (const char* reid = std::getenv("MCVIO_REIDENTIFY")) fo.reidentify_probability = std::atof(reid);
   auto seq = sim::simulateFeatureSequence(so, fo);
   // cam0 tracks on a moving body per frame (the simulator's oracle labels), for the CSV.
   std::vector<int> moving_tracks;

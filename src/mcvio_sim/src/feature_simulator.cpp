@@ -17,6 +17,11 @@ struct Track {
   std::size_t landmark;
 };
 
+struct LostTrack {
+  Track track;
+  Timestamp since;
+};
+
 }  // namespace
 
 FeatureSimulatorOptions FeatureSimulatorOptions::fromYaml(const YAML::Node& node) {
@@ -31,6 +36,8 @@ FeatureSimulatorOptions FeatureSimulatorOptions::fromYaml(const YAML::Node& node
   f.get("grid_rows", &o.grid_rows);
   f.get("image_border_px", &o.image_border_px);
   f.get("max_depth_m", &o.max_depth_m);
+  f.get("reidentify_probability", &o.reidentify_probability);
+  f.get("reidentify_max_age_s", &o.reidentify_max_age_s);
   f.rejectUnknown();
   o.validate();
   return o;
@@ -50,6 +57,8 @@ void FeatureSimulatorOptions::validate() const {
   need(grid_rows >= 1 && grid_rows <= 64, "grid_rows", "must be in [1, 64]");
   need(image_border_px >= 0 && image_border_px < 100, "image_border_px", "must be in [0, 100)");
   need(max_depth_m > 0.5, "max_depth_m", "must be above 0.5");
+  need(reidentify_probability >= 0 && reidentify_probability <= 1, "reidentify_probability", "must be in [0, 1]");
+  need(reidentify_max_age_s > 0 && reidentify_max_age_s <= 600, "reidentify_max_age_s", "must be in (0, 600]");
 }
 
 FeatureSimulator::FeatureSimulator(SimulatorOptions sim, FeatureSimulatorOptions features)
@@ -100,6 +109,7 @@ FeatureSequence FeatureSimulator::run() const {
   const int cell_cap = (fo.target_tracks + cells - 1) / cells + 1;
   const double end_probability = 1.0 / fo.mean_track_length;
   std::vector<Track> tracks;
+  std::vector<LostTrack> recognisable;  // out of view, to be re-identified when back
   std::vector<char> tracked(landmarks.size(), 0);
   std::uniform_int_distribution<std::size_t> pick(0, landmarks.size() - 1);
 
@@ -141,13 +151,32 @@ FeatureSequence FeatureSimulator::run() const {
     std::vector<std::pair<Track, Eigen::Vector2d>> alive;
     for (const Track& tr : tracks) {
       Eigen::Vector2d px;
-      if (unit(rng) < end_probability || !observe(tr.landmark, 0, &px)) {
+      const bool random_end = unit(rng) < end_probability;
+      if (random_end || !observe(tr.landmark, 0, &px)) {
         tracked[tr.landmark] = 0;
+        if (!random_end && fo.reidentify_probability > 0 && unit(rng) < fo.reidentify_probability)
+          recognisable.push_back({tr, t});
         continue;
       }
       ++cell_count[static_cast<size_t>(cellOf(px))];
       alive.emplace_back(tr, px);
     }
+    // Recognised again: back with the old id, before any new track takes the cell.
+    const Timestamp forget_before = t - fromSeconds(fo.reidentify_max_age_s);
+    std::size_t kept = 0;
+    for (const LostTrack& lost : recognisable) {
+      if (lost.since < forget_before || tracked[lost.track.landmark]) continue;
+      Eigen::Vector2d px;
+      const int cell = observe(lost.track.landmark, 0, &px) ? cellOf(px) : -1;
+      if (cell >= 0 && cell_count[static_cast<size_t>(cell)] < cell_cap) {
+        ++cell_count[static_cast<size_t>(cell)];
+        tracked[lost.track.landmark] = 1;
+        alive.emplace_back(lost.track, px);
+        continue;
+      }
+      recognisable[kept++] = lost;
+    }
+    recognisable.resize(kept);
     int attempts = 60 * std::max(0, fo.target_tracks - static_cast<int>(alive.size()));
     while (static_cast<int>(alive.size()) < fo.target_tracks && attempts-- > 0) {
       const std::size_t i = pick(rng);

@@ -279,6 +279,13 @@ struct ConflictOptions {
   /// sets its shape (large: constant). Measured on the feature-level simulator (elevator, vehicle,
   /// self-occlusion, seeds 1-9): 0.011 m/s^2 RMS per axis when the intervals open.
   double smoothing_held_acceleration_sigma = 0.01;
+  /// Re-acquiring the map: landmarks the window let go of before the interval and re-identified
+  /// by the frontend after it (same track id) give the end position in the frame the interval
+  /// started in; with at least this many agreeing, the correction is fitted to it as well
+  /// (0: never). The settled velocities are then weighed with
+  /// smoothing_settled_velocity_sigma [m/s per axis].
+  int smoothing_reidentified_min_landmarks = 8;
+  double smoothing_settled_velocity_sigma = 0.02;
 
   void validate() const;
   static ConflictOptions fromYaml(const YAML::Node& node, const std::string& context = "conflict options");

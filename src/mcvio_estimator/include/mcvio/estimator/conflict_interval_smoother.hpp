@@ -27,7 +27,11 @@ namespace mcvio::estimator {
 /// accelerometer bias in the body frame fitted the same velocities worse: 0.50 against 0.21 m ATE
 /// on the feature-level elevator, 0.64 against 0.45 m on the rendered one.) The result is the
 /// corrected position of each frame, the conflicting frame's poses moved with them, and the shift
-/// that brings the live window onto the corrected end.
+/// that brings the live window onto the corrected end. When the map seen before the interval is
+/// seen again after it (MapMemory), vision also gives the end position in the window's starting
+/// frame; then the correction gets a second term, a ramp over the window, and is fitted to the
+/// velocities and that position together (three numbers more for an interval the IMU alone
+/// carried).
 class ConflictIntervalSmoother {
  public:
   struct Options {
@@ -44,6 +48,9 @@ class ConflictIntervalSmoother {
     /// opens [m/s^2, per axis]. Against the accelerometer random walk it sets the correction's
     /// shape over time: large values make it constant.
     double held_acceleration_sigma = 0.01;
+    /// How far a settled velocity may be off [m/s per axis]; weighs the velocities against a
+    /// re-identified end position.
+    double settled_velocity_sigma = 0.02;
   };
 
   struct Result {
@@ -56,6 +63,7 @@ class ConflictIntervalSmoother {
     /// The conflicting frame's pose at every frame that published one (setSecondary), moved by
     /// the body's revision at that frame: S is measured from the body.
     std::vector<EstimatorOutput::PoseRevision> secondary_revisions;
+    bool used_reidentified = false;  ///< the re-identified end position was fitted
   };
 
   explicit ConflictIntervalSmoother(const Options& options) : options_(options) {}
@@ -87,12 +95,23 @@ class ConflictIntervalSmoother {
     Timestamp t = 0;
     Eigen::Vector3d v = Eigen::Vector3d::Zero();
   };
+  /// The last added frame's position in the frame the window started in, from landmarks seen
+  /// before the interval and re-identified after it.
+  struct ReidentifiedEnd {
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    double sigma = 0.05;  ///< [m per axis]
+    int landmarks = 0;
+  };
   /// Re-estimates the window. `settled` are the estimator's velocities at frames after the exit
   /// (the correction fits them all, in the least-squares sense: one visual velocity is too noisy
-  /// for an interval of many seconds); `p_end` is its position at the last added frame. Closes
-  /// the window whatever the outcome.
+  /// for an interval of many seconds); `p_end` is its position at the last added frame. With
+  /// `reidentified` the end position is fitted too, unless it lies further from the velocity-only
+  /// fit than a held bias error of three held_acceleration_sigma explains (then the
+  /// re-identified landmarks moved: an elevator's cabin seen again after the ride). Closes the
+  /// window whatever the outcome.
   Result finish(const ImuBuffer& imu, const ImuNoiseParams& noise, const Eigen::Vector3d& gravity,
-                const Eigen::Vector3d& p_end, const std::vector<SettledVelocity>& settled);
+                const Eigen::Vector3d& p_end, const std::vector<SettledVelocity>& settled,
+                const ReidentifiedEnd* reidentified = nullptr);
 
  private:
   struct Node {

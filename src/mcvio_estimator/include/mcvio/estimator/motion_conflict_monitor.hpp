@@ -101,8 +101,13 @@ class MotionConflictMonitor {
   /// The conflict window after an IMU-dominated interval is ready to be smoothed (see
   /// ConflictIntervalSmoother), with the state committed last as its settled end.
   bool smoothingReady() const { return options_.smoothing_enabled && smoother_.ready(); }
-  /// Smooths it against the last committed state and moves the stored states by the shift.
-  ConflictIntervalSmoother::Result smoothInterval(const ImuBuffer& imu);
+  /// When the conflict window opened: its start state's time (the map remembered up to then
+  /// is in the frame the window starts in).
+  Timestamp smoothingStartTime() const { return smoother_.startTime(); }
+  /// Smooths it against the last committed state (and the end position vision gives from
+  /// re-identified landmarks, if any) and moves the stored states by the shift.
+  ConflictIntervalSmoother::Result smoothInterval(const ImuBuffer& imu,
+                                                  const ConflictIntervalSmoother::ReidentifiedEnd* reidentified = nullptr);
 
  private:
   struct Entry {

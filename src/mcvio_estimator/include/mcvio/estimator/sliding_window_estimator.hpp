@@ -19,6 +19,7 @@
 #include "mcvio/estimator/estimator_output.hpp"
 #include "mcvio/estimator/imu_buffer.hpp"
 #include "mcvio/estimator/imu_preintegrator.hpp"
+#include "mcvio/estimator/map_memory.hpp"
 #include "mcvio/estimator/marginalization_prior.hpp"
 #include "mcvio/estimator/motion_conflict_monitor.hpp"
 #include "mcvio/estimator/parameter_block_pool.hpp"
@@ -174,6 +175,12 @@ class SlidingWindowEstimator {
   void marginalizeWith(const std::vector<const ResidualRecord*>& records, const std::set<const double*>& drop);
   bool reanchor(Landmark& lm, std::uint64_t leaving_frame);
   void eraseLandmark(std::uint64_t track_id);
+  /// Keeps a landmark leaving the window in map_memory_ (not while a conflict is suspected or
+  /// open, nor one the conflict classifier holds moving), stamped `t`.
+  void rememberLandmark(std::uint64_t track_id, Timestamp t);
+  /// The end position vision gives in the conflict window's starting frame, from the window's
+  /// landmarks that map_memory_ held before the window opened; false if too few agree.
+  bool reidentifiedEnd(const Eigen::Vector3d& p_end, ConflictIntervalSmoother::ReidentifiedEnd* end) const;
   bool landmarkPointWorld(const Landmark& lm, Eigen::Vector3d* p_W) const;
   void fillState(EstimatorOutput* out) const;
 
@@ -193,6 +200,7 @@ class SlidingWindowEstimator {
   std::deque<FramePtr> frames_;
   ParameterBlockPool landmark_params_{3};
   std::unordered_map<std::uint64_t, Landmark> landmarks_;
+  MapMemory map_memory_;
   std::shared_ptr<MarginalizationPrior> prior_;
   /// All the information marginalisation has left (Marginalizer::SplitPrior::whole), of which
   /// prior_ keeps the strong directions: the covariance uses it in place of prior_, the solver
