@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -62,6 +64,40 @@ int main(int argc, char** argv) {
   // A frontend that re-identifies lost landmarks, with this probability (FeatureSimulatorOptions).
   if (const char* reid = std::getenv("MCVIO_REIDENTIFY")) fo.reidentify_probability = std::atof(reid);
   auto seq = sim::simulateFeatureSequence(so, fo);
+  {  // Tracks that came back: seen before, not in the previous frame (re-identified).
+    std::set<std::uint64_t> seen, prev;
+    int back = 0, fresh = 0;
+    for (const auto& f : seq.frames) {
+      std::set<std::uint64_t> cur;
+      for (const auto& o : f.features)
+        if (o.camera_index == 0) cur.insert(o.track_id);
+      for (auto id : cur)
+        if (prev.count(id) == 0) ++(seen.count(id) != 0 ? back : fresh);
+      seen.insert(cur.begin(), cur.end());
+      prev = std::move(cur);
+    }
+    std::printf("tracks: %d new, %d re-identified\n", fresh, back);
+  }
+  // The same observations without re-identification: a returning track gets a new id.
+  if (const char* forget = std::getenv("MCVIO_FORGET_REID"); forget != nullptr && std::string(forget) == "1") {
+    std::set<std::uint64_t> seen, prev;
+    std::map<std::uint64_t, std::uint64_t> renamed;
+    std::uint64_t next = 1ull << 40;
+    for (auto& f : seq.frames) {
+      std::set<std::uint64_t> cur;
+      for (const auto& o : f.features)
+        if (o.camera_index == 0) cur.insert(o.track_id);
+      for (auto id : cur)
+        if (prev.count(id) == 0 && seen.count(id) != 0) renamed[id] = next++;
+        else if (prev.count(id) == 0) renamed.erase(id);
+      for (auto& o : f.features) {
+        const auto it = renamed.find(o.track_id);
+        if (it != renamed.end()) o.track_id = it->second;
+      }
+      seen.insert(cur.begin(), cur.end());
+      prev = std::move(cur);
+    }
+  }
   // cam0 tracks on a moving body per frame (the simulator's oracle labels), for the CSV.
   std::vector<int> moving_tracks;
   for (const auto& f : seq.frames)

@@ -64,8 +64,19 @@ const char* toString(FrameStatus status) {
   return "unknown";
 }
 
+namespace {
+TrackReidentifier::Options reidentifierOptions(const FrontendOptions& o) {
+  TrackReidentifier::Options r;
+  r.min_age_s = o.reidentify_min_age_s;
+  r.max_age_s = o.reidentify_max_age_s;
+  r.max_hamming = o.reidentify_max_hamming;
+  r.ratio = o.reidentify_ratio;
+  return r;
+}
+}  // namespace
+
 FeatureTracker::FeatureTracker(const FrontendOptions& options)
-    : options_(options), gyro_(options.max_imu_gap_ns) {
+    : options_(options), gyro_(options.max_imu_gap_ns), reidentifier_(reidentifierOptions(options)) {
   options_.validate();
 }
 
@@ -102,7 +113,9 @@ void FeatureTracker::setCalibration(const StereoRigCalibration& calibration) {
 void FeatureTracker::reset() {
   has_prev_ = false;
   prev_left_pyr_.clear();
+  prev_left_.release();
   tracks_.clear();
+  reidentifier_.clear();
 }
 
 std::vector<TrackHistory> FeatureTracker::trackHistories() const {
@@ -267,11 +280,12 @@ TrackingResult FeatureTracker::track(const StereoInput& input) {
     }
     stats.gyro_prediction = have_rotation;
     trackTemporal(left_pyr, have_rotation ? &R_cur_prev : nullptr, &stats);
+    if (options_.reidentify_lost_tracks) reidentifier_.remember(prev_left_, lost_, prev_t_);
   } else {
     for (Track& t : tracks_) t.label = TrackLabel::kUnknown;
   }
   stats.cpu_ms_temporal = lap();
-  detectNew(left, &stats);
+  detectNew(left, input.t, &stats);
   stats.cpu_ms_detect = lap();
   matchStereo(left_pyr, right_pyr, &stats);
   stats.cpu_ms_stereo = lap();
@@ -300,6 +314,7 @@ TrackingResult FeatureTracker::track(const StereoInput& input) {
   }
   stats.cpu_ms_total = threadCpuMs() - t_start;
   prev_left_pyr_ = std::move(left_pyr);
+  prev_left_ = left;
   prev_t_ = input.t;
   has_prev_ = true;
   ++frame_index_;
@@ -342,6 +357,7 @@ void FeatureTracker::trackTemporal(const std::vector<cv::Mat>& cur_pyr,
   kept.reserve(n);
   corr.reserve(n);
   const double fb2 = options_.fb_threshold_px * options_.fb_threshold_px;
+  lost_.clear();
   for (std::size_t i = 0; i < n; ++i) {
     const cv::Point2f d = back_pts[i] - prev_pts[i];
     Eigen::Vector2d norm;
@@ -349,6 +365,7 @@ void FeatureTracker::trackTemporal(const std::vector<cv::Mat>& cur_pyr,
         !cam0.isInImage(toEigen(cur_pts[i]), options_.border_px) ||
         !cam0.unproject(toEigen(cur_pts[i]), &norm)) {
       ++stats->lost;
+      lost_.emplace_back(tracks_[i].id, prev_pts[i]);
       continue;
     }
     Track t = std::move(tracks_[i]);
@@ -370,7 +387,7 @@ void FeatureTracker::trackTemporal(const std::vector<cv::Mat>& cur_pyr,
   for (std::size_t i = 0; i < tracks_.size(); ++i) tracks_[i].label = check.labels[i];
 }
 
-void FeatureTracker::detectNew(const cv::Mat& image, TrackingStats* stats) {
+void FeatureTracker::detectNew(const cv::Mat& image, Timestamp t_frame, TrackingStats* stats) {
   const int max_features = options_.max_features;
   if (static_cast<int>(tracks_.size()) >= max_features) return;
   const int w = image.cols, h = image.rows;
@@ -453,10 +470,15 @@ void FeatureTracker::detectNew(const cv::Mat& image, TrackingStats* stats) {
                      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 10, 0.01));
   }
   const CameraModel& cam0 = calibration_->cam0.model;
-  for (const cv::Point2f& p : fresh) {
+  const std::vector<std::uint64_t> known = options_.reidentify_lost_tracks
+                                               ? reidentifier_.recognise(image, fresh, t_frame)
+                                               : std::vector<std::uint64_t>(fresh.size(), 0);
+  for (std::size_t k = 0; k < fresh.size(); ++k) {
+    const cv::Point2f& p = fresh[k];
     Track t;
     if (!cam0.isInImage(toEigen(p), b) || !cam0.unproject(toEigen(p), &t.left_norm)) continue;
-    t.id = next_id_++;
+    t.id = known[k] != 0 ? known[k] : next_id_++;
+    stats->reidentified += known[k] != 0 ? 1 : 0;
     t.left = p;
     tracks_.push_back(std::move(t));
     ++stats->detected;

@@ -65,6 +65,12 @@ void FrontendOptions::validate() const {
           "must be > 0");
   require(ransac_iterations > 0, "ransac_iterations", "must be > 0");
   require(min_tracks_for_check >= 5, "min_tracks_for_check", "must be >= 5");
+  require(reidentify_min_age_s >= 0 && reidentify_min_age_s < reidentify_max_age_s, "reidentify_min_age_s",
+          "must be >= 0 and below reidentify_max_age_s");
+  require(reidentify_max_age_s > 0 && reidentify_max_age_s <= 600, "reidentify_max_age_s", "must be in (0, 600]");
+  require(reidentify_max_hamming >= 0 && reidentify_max_hamming <= 256, "reidentify_max_hamming",
+          "must be in [0, 256]");
+  require(reidentify_ratio > 0 && reidentify_ratio <= 1, "reidentify_ratio", "must be in (0, 1]");
   require(history_length >= 1, "history_length", "must be >= 1");
 }
 
@@ -106,6 +112,11 @@ FrontendOptions FrontendOptions::fromYaml(const YAML::Node& node, const std::str
       {"ransac_iterations", bind(&o.ransac_iterations)},
       {"min_tracks_for_check", bind(&o.min_tracks_for_check)},
       {"ransac_seed", bind(&o.ransac_seed)},
+      {"reidentify_lost_tracks", bind(&o.reidentify_lost_tracks)},
+      {"reidentify_min_age_s", bind(&o.reidentify_min_age_s)},
+      {"reidentify_max_age_s", bind(&o.reidentify_max_age_s)},
+      {"reidentify_max_hamming", bind(&o.reidentify_max_hamming)},
+      {"reidentify_ratio", bind(&o.reidentify_ratio)},
       {"history_length", bind(&o.history_length)},
   };
   for (const auto& kv : node) {

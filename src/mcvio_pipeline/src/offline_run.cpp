@@ -247,6 +247,8 @@ class RunRecorder {
       ++skip_reasons[r.tracking.message];
     } else {
       features.add(r.tracking.stats.tracked + r.tracking.stats.detected);
+      new_tracks += r.tracking.stats.detected;
+      reidentified_tracks += r.tracking.stats.reidentified;
       stereo.add(r.tracking.stats.stereo_matched);
       const auto& e = r.estimate;
       backend_ms.add(e.timings.cpu_total_ms);
@@ -298,6 +300,7 @@ class RunRecorder {
 
   OfflineRunSummary summary;
   StageStats loader_ms, frontend_ms, backend_ms, features, stereo, landmarks, iterations;
+  long long new_tracks = 0, reidentified_tracks = 0;  ///< of the new ones, lost tracks recognised again
   std::map<std::string, StageStats> backend_stage_ms;  ///< wall time of the estimator's stages
   std::size_t keyframes = 0, zero_velocity = 0, not_initialized = 0, conflict_frames = 0;
   std::map<std::string, std::size_t> skip_reasons;
@@ -523,6 +526,8 @@ OfflineRunSummary runOffline(const OfflineInput& data, const OfflineRunOptions& 
       {"backend_wall_ms_per_frame", stageSummaries(rec.backend_stage_ms)},
       {"solver_iterations", rec.iterations.summary()},
       {"features_per_frame", rec.features.summary()},
+      {"new_tracks", rec.new_tracks},
+      {"reidentified_tracks", rec.reidentified_tracks},
       {"stereo_matches_per_frame", rec.stereo.summary()},
       {"landmarks_in_window", rec.landmarks.summary()},
       {"warnings", data.warnings}};

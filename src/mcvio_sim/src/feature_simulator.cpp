@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include <yaml-cpp/yaml.h>
@@ -19,8 +20,9 @@ struct Track {
 
 struct LostTrack {
   Track track;
-  Timestamp since;
+  Timestamp since;  ///< when it ended
 };
+constexpr Timestamp kNeverTracked = std::numeric_limits<Timestamp>::min();
 
 }  // namespace
 
@@ -37,6 +39,7 @@ FeatureSimulatorOptions FeatureSimulatorOptions::fromYaml(const YAML::Node& node
   f.get("image_border_px", &o.image_border_px);
   f.get("max_depth_m", &o.max_depth_m);
   f.get("reidentify_probability", &o.reidentify_probability);
+  f.get("reidentify_min_age_s", &o.reidentify_min_age_s);
   f.get("reidentify_max_age_s", &o.reidentify_max_age_s);
   f.rejectUnknown();
   o.validate();
@@ -59,6 +62,8 @@ void FeatureSimulatorOptions::validate() const {
   need(max_depth_m > 0.5, "max_depth_m", "must be above 0.5");
   need(reidentify_probability >= 0 && reidentify_probability <= 1, "reidentify_probability", "must be in [0, 1]");
   need(reidentify_max_age_s > 0 && reidentify_max_age_s <= 600, "reidentify_max_age_s", "must be in (0, 600]");
+  need(reidentify_min_age_s >= 0 && reidentify_min_age_s < reidentify_max_age_s, "reidentify_min_age_s",
+       "must be >= 0 and below reidentify_max_age_s");
 }
 
 FeatureSimulator::FeatureSimulator(SimulatorOptions sim, FeatureSimulatorOptions features)
@@ -109,7 +114,11 @@ FeatureSequence FeatureSimulator::run() const {
   const int cell_cap = (fo.target_tracks + cells - 1) / cells + 1;
   const double end_probability = 1.0 / fo.mean_track_length;
   std::vector<Track> tracks;
-  std::vector<LostTrack> recognisable;  // out of view, to be re-identified when back
+  // Each landmark's last track and when it ended, for re-identification.
+  std::vector<LostTrack> lost_track(landmarks.size(), LostTrack{{0, 0}, kNeverTracked});
+  std::mt19937_64 reid_rng(sim_.seed * 0x9E3779B97F4A7C15ULL + 29);
+  std::uniform_real_distribution<double> reidentify(0.0, 1.0);
+  const Timestamp min_age = fromSeconds(fo.reidentify_min_age_s), max_age = fromSeconds(fo.reidentify_max_age_s);
   std::vector<char> tracked(landmarks.size(), 0);
   std::uniform_int_distribution<std::size_t> pick(0, landmarks.size() - 1);
 
@@ -151,32 +160,14 @@ FeatureSequence FeatureSimulator::run() const {
     std::vector<std::pair<Track, Eigen::Vector2d>> alive;
     for (const Track& tr : tracks) {
       Eigen::Vector2d px;
-      const bool random_end = unit(rng) < end_probability;
-      if (random_end || !observe(tr.landmark, 0, &px)) {
+      if (unit(rng) < end_probability || !observe(tr.landmark, 0, &px)) {
         tracked[tr.landmark] = 0;
-        if (!random_end && fo.reidentify_probability > 0 && unit(rng) < fo.reidentify_probability)
-          recognisable.push_back({tr, t});
+        lost_track[tr.landmark] = {tr, t};
         continue;
       }
       ++cell_count[static_cast<size_t>(cellOf(px))];
       alive.emplace_back(tr, px);
     }
-    // Recognised again: back with the old id, before any new track takes the cell.
-    const Timestamp forget_before = t - fromSeconds(fo.reidentify_max_age_s);
-    std::size_t kept = 0;
-    for (const LostTrack& lost : recognisable) {
-      if (lost.since < forget_before || tracked[lost.track.landmark]) continue;
-      Eigen::Vector2d px;
-      const int cell = observe(lost.track.landmark, 0, &px) ? cellOf(px) : -1;
-      if (cell >= 0 && cell_count[static_cast<size_t>(cell)] < cell_cap) {
-        ++cell_count[static_cast<size_t>(cell)];
-        tracked[lost.track.landmark] = 1;
-        alive.emplace_back(lost.track, px);
-        continue;
-      }
-      recognisable[kept++] = lost;
-    }
-    recognisable.resize(kept);
     int attempts = 60 * std::max(0, fo.target_tracks - static_cast<int>(alive.size()));
     while (static_cast<int>(alive.size()) < fo.target_tracks && attempts-- > 0) {
       const std::size_t i = pick(rng);
@@ -187,8 +178,13 @@ FeatureSequence FeatureSimulator::run() const {
       if (cell_count[static_cast<size_t>(cell)] >= cell_cap) continue;
       ++cell_count[static_cast<size_t>(cell)];
       tracked[i] = 1;
-      const Track tr{static_cast<std::uint64_t>(out.track_truth.size()), i};
-      out.track_truth.push_back(landmarks[i]);
+      // Detected again: recognised (its old id back) or a new track. Its own random stream, so
+      // that the observations do not depend on reidentify_probability, only the ids.
+      const LostTrack& lost = lost_track[i];
+      const bool recognised = lost.since != kNeverTracked && lost.since <= t - min_age &&
+                              lost.since >= t - max_age && reidentify(reid_rng) < fo.reidentify_probability;
+      const Track tr = recognised ? lost.track : Track{static_cast<std::uint64_t>(out.track_truth.size()), i};
+      if (!recognised) out.track_truth.push_back(landmarks[i]);
       alive.emplace_back(tr, px);
     }
 

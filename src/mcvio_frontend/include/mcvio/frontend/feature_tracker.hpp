@@ -12,6 +12,7 @@
 #include "mcvio/frontend/gyro_integrator.hpp"
 #include "mcvio/frontend/motion_consistency_checker.hpp"
 #include "mcvio/frontend/stereo_input.hpp"
+#include "mcvio/frontend/track_reidentifier.hpp"
 #include "mcvio/frontend/tracking_result.hpp"
 
 namespace mcvio::frontend {
@@ -23,7 +24,9 @@ namespace mcvio::frontend {
 ///
 /// Photometric failures (KLT lost, forward-backward error, leaving the image) drop a track;
 /// geometric disagreement does not: inconsistent tracks stay and are published with their
-/// label, so the backend sees motion-conflict evidence. Track ids are never reused.
+/// label, so the backend sees motion-conflict evidence. A new id is given to every new track,
+/// except, with FrontendOptions::reidentify_lost_tracks, a lost one the TrackReidentifier
+/// recognises: it gets its old id back.
 /// Bad frames are skipped with a status and message; the tracker keeps its state.
 ///
 /// Usage (one instance per stereo stream; not thread-safe, call from one thread):
@@ -76,7 +79,7 @@ class FeatureTracker {
   void buildPyramid(const cv::Mat& image, std::vector<cv::Mat>* pyramid) const;
   void trackTemporal(const std::vector<cv::Mat>& cur_pyr, const Eigen::Matrix3d* R_cur_prev,
                      TrackingStats* stats);
-  void detectNew(const cv::Mat& image, TrackingStats* stats);
+  void detectNew(const cv::Mat& image, Timestamp t, TrackingStats* stats);
   void matchStereo(const std::vector<cv::Mat>& left_pyr, const std::vector<cv::Mat>& right_pyr,
                    TrackingStats* stats);
 
@@ -89,6 +92,9 @@ class FeatureTracker {
   bool has_prev_ = false;
   Timestamp prev_t_ = 0;
   std::vector<cv::Mat> prev_left_pyr_;
+  cv::Mat prev_left_;  ///< the prepared image, where lost tracks are described
+  TrackReidentifier reidentifier_;
+  std::vector<std::pair<std::uint64_t, cv::Point2f>> lost_;  ///< this frame's, at their last position
   std::vector<Track> tracks_;
   std::uint64_t next_id_ = 1;
   std::uint32_t frame_index_ = 0;

@@ -57,6 +57,20 @@ struct FrontendOptions {
   int min_tracks_for_check = 8;      ///< fewer temporal tracks: labels stay kUnknown
   unsigned ransac_seed = 42;         ///< deterministic sampling
 
+  // Re-identification (TrackReidentifier)
+  /// A corner detected again after its track was lost (it left the view, or an occluder hid it)
+  /// and recognised by its ORB descriptor keeps its old track id, so the backend can tell how far
+  /// it drifted meanwhile. Lost tracks are candidates from reidentify_min_age_s after they were
+  /// lost (before, the backend may still hold their landmark) to reidentify_max_age_s; a match
+  /// needs at most reidentify_max_hamming of 256 bits and reidentify_ratio x the second best.
+  /// Off by default: where a texture repeats, the patch cannot tell its copies apart (on the
+  /// simulator's office most ids it gave back were a copy's, see the frontend README).
+  bool reidentify_lost_tracks = false;
+  double reidentify_min_age_s = 3.0;
+  double reidentify_max_age_s = 60.0;
+  int reidentify_max_hamming = 40;
+  double reidentify_ratio = 0.8;
+
   // Visualisation
   int history_length = 20;  ///< past positions kept per track for drawing
 

@@ -25,11 +25,13 @@ struct FeatureSimulatorOptions {
   int grid_cols = 8, grid_rows = 6;  ///< new tracks go to the emptiest cells of this grid
   double image_border_px = 4.0;      ///< observations closer to the edge are not made
   double max_depth_m = 40.0;
-  /// A frontend that re-identifies what it lost: a track that ended because its landmark left
-  /// the view (or went behind an occluder) is recognisable with this probability, and a
-  /// recognisable one comes back with its old track id as soon as the landmark is in view again
-  /// (within reidentify_max_age_s). 0: every track that comes back is new, as KLT tracking gives.
+  /// A frontend that re-identifies what it lost: when a landmark whose track ended (it left the
+  /// view, went behind an occluder, or KLT lost it) from reidentify_min_age_s to
+  /// reidentify_max_age_s before is detected again, it is recognised with this probability and
+  /// its track gets the old id back (as mcvio::frontend::TrackReidentifier does); otherwise a
+  /// new one. Only the ids depend on it, not the observations. 0: KLT tracking alone.
   double reidentify_probability = 0.0;
+  double reidentify_min_age_s = 3.0;
   double reidentify_max_age_s = 60.0;
 
   static FeatureSimulatorOptions fromYaml(const YAML::Node& node);
