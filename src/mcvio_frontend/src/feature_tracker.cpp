@@ -280,7 +280,7 @@ TrackingResult FeatureTracker::track(const StereoInput& input) {
     }
     stats.gyro_prediction = have_rotation;
     trackTemporal(left_pyr, have_rotation ? &R_cur_prev : nullptr, &stats);
-    if (options_.reidentify_lost_tracks) reidentifier_.remember(prev_left_, lost_, prev_t_);
+    if (options_.reidentify_lost_tracks) reidentifier_.remember(prev_left_, lost_, kept_prev_, prev_t_);
   } else {
     for (Track& t : tracks_) t.label = TrackLabel::kUnknown;
   }
@@ -358,6 +358,7 @@ void FeatureTracker::trackTemporal(const std::vector<cv::Mat>& cur_pyr,
   corr.reserve(n);
   const double fb2 = options_.fb_threshold_px * options_.fb_threshold_px;
   lost_.clear();
+  kept_prev_.clear();
   for (std::size_t i = 0; i < n; ++i) {
     const cv::Point2f d = back_pts[i] - prev_pts[i];
     Eigen::Vector2d norm;
@@ -369,6 +370,7 @@ void FeatureTracker::trackTemporal(const std::vector<cv::Mat>& cur_pyr,
       continue;
     }
     Track t = std::move(tracks_[i]);
+    kept_prev_.push_back(prev_pts[i]);
     MotionConsistencyChecker::Correspondence c;
     c.prev_normalized = t.left_norm;
     c.cur_normalized = norm;
@@ -470,9 +472,13 @@ void FeatureTracker::detectNew(const cv::Mat& image, Timestamp t_frame, Tracking
                      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 10, 0.01));
   }
   const CameraModel& cam0 = calibration_->cam0.model;
-  const std::vector<std::uint64_t> known = options_.reidentify_lost_tracks
-                                               ? reidentifier_.recognise(image, fresh, t_frame)
-                                               : std::vector<std::uint64_t>(fresh.size(), 0);
+  std::vector<std::uint64_t> known(fresh.size(), 0);
+  if (options_.reidentify_lost_tracks) {
+    std::vector<cv::Point2f> tracked;
+    tracked.reserve(tracks_.size());
+    for (const Track& tr : tracks_) tracked.push_back(tr.left);
+    known = reidentifier_.recognise(image, fresh, tracked, t_frame);
+  }
   for (std::size_t k = 0; k < fresh.size(); ++k) {
     const cv::Point2f& p = fresh[k];
     Track t;

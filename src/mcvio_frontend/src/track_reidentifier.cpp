@@ -39,33 +39,69 @@ void TrackReidentifier::forgetBefore(Timestamp t) {
   while (!entries_.empty() && (entries_.front().lost < t || entries_.size() > options_.max_entries)) entries_.pop_front();
 }
 
+std::vector<char> TrackReidentifier::ambiguous(const cv::Mat& descriptors, int n) const {
+  std::vector<char> out(static_cast<std::size_t>(n), 0);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < descriptors.rows && !out[static_cast<std::size_t>(i)]; ++j)
+      if (j != i && cv::norm(descriptors.row(i), descriptors.row(j), cv::NORM_HAMMING) <= options_.max_hamming)
+        out[static_cast<std::size_t>(i)] = 1;
+  return out;
+}
+
 void TrackReidentifier::remember(const cv::Mat& image, const std::vector<std::pair<std::uint64_t, cv::Point2f>>& lost,
-                                 Timestamp t) {
+                                 const std::vector<cv::Point2f>& others, Timestamp t) {
   if (lost.empty()) return;
   std::vector<cv::Point2f> points;
-  points.reserve(lost.size());
+  points.reserve(lost.size() + others.size());
   for (const auto& l : lost) points.push_back(l.second);
+  points.insert(points.end(), others.begin(), others.end());
   cv::Mat desc;
   std::vector<int> row;
   describe(image, points, &desc, &row);
+  // Rows of the lost points first, so ambiguous() sees them as the first rows.
+  cv::Mat ordered(0, desc.cols, desc.type());
+  std::vector<std::uint64_t> ids;
   for (std::size_t i = 0; i < lost.size(); ++i)
-    if (row[i] >= 0) entries_.push_back({lost[i].first, t, desc.row(row[i]).clone()});
+    if (row[i] >= 0) {
+      ordered.push_back(desc.row(row[i]));
+      ids.push_back(lost[i].first);
+    }
+  const int n = ordered.rows;
+  for (std::size_t i = lost.size(); i < points.size(); ++i)
+    if (row[i] >= 0) ordered.push_back(desc.row(row[i]));
+  const std::vector<char> repeated = ambiguous(ordered, n);
+  for (int i = 0; i < n; ++i)
+    if (!repeated[static_cast<std::size_t>(i)]) entries_.push_back({ids[static_cast<std::size_t>(i)], t, ordered.row(i).clone()});
   forgetBefore(t - fromSeconds(options_.max_age_s));
 }
 
 std::vector<std::uint64_t> TrackReidentifier::recognise(const cv::Mat& image, const std::vector<cv::Point2f>& points,
-                                                        Timestamp t) {
+                                                        const std::vector<cv::Point2f>& others, Timestamp t) {
   std::vector<std::uint64_t> ids(points.size(), 0);
   forgetBefore(t - fromSeconds(options_.max_age_s));
   if (entries_.empty() || points.empty()) return ids;
+  std::vector<cv::Point2f> all(points);
+  all.insert(all.end(), others.begin(), others.end());
   cv::Mat desc;
   std::vector<int> row;
-  describe(image, points, &desc, &row);
+  describe(image, all, &desc, &row);
+  // The new points' rows first, so ambiguous() sees them as the first rows.
+  cv::Mat ordered(0, desc.cols, desc.type());
+  std::vector<int> ordered_row(points.size(), -1);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (row[i] >= 0) {
+      ordered_row[i] = ordered.rows;
+      ordered.push_back(desc.row(row[i]));
+    }
+  const int n = ordered.rows;
+  for (std::size_t i = points.size(); i < all.size(); ++i)
+    if (row[i] >= 0) ordered.push_back(desc.row(row[i]));
+  const std::vector<char> repeated = ambiguous(ordered, n);
   std::vector<char> taken(entries_.size(), 0);
   const Timestamp lost_before = t - fromSeconds(options_.min_age_s);
   for (std::size_t i = 0; i < points.size(); ++i) {
-    if (row[i] < 0) continue;
-    const cv::Mat d = desc.row(row[i]);
+    if (ordered_row[i] < 0 || repeated[static_cast<std::size_t>(ordered_row[i])]) continue;
+    const cv::Mat d = ordered.row(ordered_row[i]);
     int best = std::numeric_limits<int>::max(), second = best;
     std::size_t best_k = 0;
     for (std::size_t k = 0; k < entries_.size() && entries_[k].lost <= lost_before; ++k) {

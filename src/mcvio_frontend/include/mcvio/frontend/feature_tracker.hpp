@@ -95,6 +95,7 @@ class FeatureTracker {
   cv::Mat prev_left_;  ///< the prepared image, where lost tracks are described
   TrackReidentifier reidentifier_;
   std::vector<std::pair<std::uint64_t, cv::Point2f>> lost_;  ///< this frame's, at their last position
+  std::vector<cv::Point2f> kept_prev_;  ///< the tracks kept this frame, at their previous position
   std::vector<Track> tracks_;
   std::uint64_t next_id_ = 1;
   std::uint32_t frame_index_ = 0;

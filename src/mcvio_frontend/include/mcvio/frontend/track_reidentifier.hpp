@@ -36,11 +36,16 @@ class TrackReidentifier {
   explicit TrackReidentifier(const Options& options);
 
   /// Remembers tracks lost at time t, each by its id and last position in `image` (mono8).
-  /// Points too close to the border for a descriptor are skipped.
-  void remember(const cv::Mat& image, const std::vector<std::pair<std::uint64_t, cv::Point2f>>& lost, Timestamp t);
-  /// For each point newly detected in `image` at time t, the id of the lost track it is (0: none).
-  /// A recognised track is forgotten, so no id comes back twice.
-  std::vector<std::uint64_t> recognise(const cv::Mat& image, const std::vector<cv::Point2f>& points, Timestamp t);
+  /// Points too close to the border for a descriptor are skipped, and so are patches that
+  /// another corner of the same image (`others`, or another lost one) also matches: a repeated
+  /// texture, whose copies elsewhere the patch could not tell apart either.
+  void remember(const cv::Mat& image, const std::vector<std::pair<std::uint64_t, cv::Point2f>>& lost,
+                const std::vector<cv::Point2f>& others, Timestamp t);
+  /// For each point newly detected in `image` at time t, the id of the lost track it is (0: none);
+  /// points that another of them or of `others` (the corners tracked in that image) matches are
+  /// not recognised. A recognised track is forgotten, so no id comes back twice.
+  std::vector<std::uint64_t> recognise(const cv::Mat& image, const std::vector<cv::Point2f>& points,
+                                       const std::vector<cv::Point2f>& others, Timestamp t);
   void clear() { entries_.clear(); }
   std::size_t size() const { return entries_.size(); }
 
@@ -54,6 +59,8 @@ class TrackReidentifier {
   void describe(const cv::Mat& image, const std::vector<cv::Point2f>& points, cv::Mat* descriptors,
                 std::vector<int>* row_of_point);
   void forgetBefore(Timestamp t);
+  /// For the first `n` rows of `descriptors`, whether another row is within max_hamming.
+  std::vector<char> ambiguous(const cv::Mat& descriptors, int n) const;
 
   Options options_;
   cv::Ptr<cv::Feature2D> orb_;
