@@ -556,6 +556,10 @@ TEST(ConflictOptions, YamlErrorsNameTheKey) {
                    0.02);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_held_acceleration_sigma: 0")), InputError);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_held_acceleration_sigma: .nan")), InputError);
+  EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("smoothing_reidentified_min_landmarks: 0")).smoothing_reidentified_min_landmarks, 0);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_reidentified_min_landmarks: -1")), InputError);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_settled_velocity_sigma: 0")), InputError);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_settled_velocity_sigma: .nan")), InputError);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("frontend_labels_outside_min_count: 0")), InputError);
   EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("frontend_labels_outside_min_count: 3")).frontend_labels_outside_min_count, 3);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("frontend_labels_after_conflict_frames: -1")), InputError);

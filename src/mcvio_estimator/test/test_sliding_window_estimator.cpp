@@ -369,7 +369,9 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_DOUBLE_EQ(c.rotation_chi2_threshold, dc.rotation_chi2_threshold);
   EXPECT_EQ(c.exit_velocity_frames, dc.exit_velocity_frames);
   EXPECT_EQ(c.exit_velocity_frames_after_hold, dc.exit_velocity_frames_after_hold);
-  EXPECT_EQ(root["conflict"].size(), 68u) << "every conflict option appears once";
+  EXPECT_EQ(c.smoothing_reidentified_min_landmarks, dc.smoothing_reidentified_min_landmarks);
+  EXPECT_DOUBLE_EQ(c.smoothing_settled_velocity_sigma, dc.smoothing_settled_velocity_sigma);
+  EXPECT_EQ(root["conflict"].size(), 70u) << "every conflict option appears once";
 }
 
 }  // namespace

@@ -64,6 +64,20 @@ TEST(FrontendOptions, ShippedConfigLoads) {
   EXPECT_EQ(o.normalization_block_px, d.normalization_block_px);
   EXPECT_DOUBLE_EQ(o.ransac_threshold_px, d.ransac_threshold_px);
   EXPECT_DOUBLE_EQ(o.stereo_prediction_tolerance_px, d.stereo_prediction_tolerance_px);
+  EXPECT_EQ(o.reidentify_lost_tracks, d.reidentify_lost_tracks);
+  EXPECT_DOUBLE_EQ(o.reidentify_min_age_s, d.reidentify_min_age_s);
+  EXPECT_DOUBLE_EQ(o.reidentify_max_age_s, d.reidentify_max_age_s);
+  EXPECT_EQ(o.reidentify_max_hamming, d.reidentify_max_hamming);
+  EXPECT_DOUBLE_EQ(o.reidentify_ratio, d.reidentify_ratio);
+}
+
+TEST(FrontendOptions, ReidentificationOptionsAreChecked) {
+  EXPECT_TRUE(FrontendOptions::fromYaml(YAML::Load("reidentify_lost_tracks: true")).reidentify_lost_tracks);
+  EXPECT_THROW(FrontendOptions::fromYaml(YAML::Load("reidentify_min_age_s: 70")), InputError);  // above the max age
+  EXPECT_THROW(FrontendOptions::fromYaml(YAML::Load("reidentify_max_age_s: 0")), InputError);
+  EXPECT_THROW(FrontendOptions::fromYaml(YAML::Load("reidentify_max_hamming: 300")), InputError);
+  EXPECT_THROW(FrontendOptions::fromYaml(YAML::Load("reidentify_ratio: 0")), InputError);
+  EXPECT_THROW(FrontendOptions::fromYaml(YAML::Load("reidentify_ratio: .nan")), InputError);
 }
 
 }  // namespace

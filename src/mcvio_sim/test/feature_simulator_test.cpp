@@ -2,6 +2,7 @@
 
 #include <map>
 
+#include "mcvio/core/input_error.hpp"
 #include "mcvio/sim/feature_simulator.hpp"
 #include "mcvio/sim/simulator.hpp"
 
@@ -71,6 +72,44 @@ TEST(FeatureSimulator, TracksAreStereoNoisyProjectionsOfTheirLandmarksWithFinite
   mean_len /= life.size();
   EXPECT_GT(mean_len, 8.0);
   EXPECT_LT(mean_len, 45.0);
+}
+
+TEST(FeatureSimulator, ReidentificationChangesOnlyTheIdsOfReturningTracks) {
+  SimulatorOptions so = shortRun(ScenarioKind::kSelfOcclusion);
+  so.duration_s = 14.0;
+  FeatureSimulatorOptions fo;
+  const FeatureSequence plain = simulateFeatureSequence(so, fo);
+  fo.reidentify_probability = 1.0;
+  const FeatureSequence reid = simulateFeatureSequence(so, fo);
+  ASSERT_EQ(plain.frames.size(), reid.frames.size());
+  std::map<std::uint64_t, std::size_t> last_frame;  // per id, with re-identification
+  int returned = 0;
+  for (std::size_t k = 0; k < plain.frames.size(); ++k) {
+    const auto& a = plain.frames[k].features;
+    const auto& b = reid.frames[k].features;
+    ASSERT_EQ(a.size(), b.size()) << "frame " << k;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].pixel, b[i].pixel);
+      EXPECT_EQ(a[i].camera_index, b[i].camera_index);
+      // The same landmark under either id.
+      EXPECT_EQ(plain.track_truth.at(a[i].track_id).p_body, reid.track_truth.at(b[i].track_id).p_body);
+      if (b[i].camera_index != 0) continue;
+      const auto it = last_frame.find(b[i].track_id);
+      if (it != last_frame.end() && it->second + 1 < k) {
+        ++returned;
+        // Back at least reidentify_min_age_s (3 s = 60 frames) after it ended.
+        EXPECT_GE(k - it->second, 60u);
+      }
+      last_frame[b[i].track_id] = k;
+    }
+  }
+  EXPECT_GT(returned, 10);
+  FeatureSimulatorOptions bad;
+  bad.reidentify_probability = 1.5;
+  EXPECT_THROW(bad.validate(), InputError);
+  bad = FeatureSimulatorOptions();
+  bad.reidentify_min_age_s = 70.0;
+  EXPECT_THROW(bad.validate(), InputError);
 }
 
 TEST(FeatureSimulator, LandmarksOnTheRidingCabinAreInconsistentDuringTheRideOnly) {
