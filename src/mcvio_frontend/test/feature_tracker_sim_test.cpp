@@ -26,9 +26,26 @@ struct ScenarioLabels {
   std::map<std::uint64_t, std::pair<int, int>> moving_tracks;
 };
 
-// Tracks frames [first, last) of the simulation, feeding the IMU up to each frame's time.
-void trackScenario(const sim::Simulator& simulator, std::size_t first, std::size_t last, ScenarioLabels* out) {
-  FeatureTracker tracker;
+// A rendered scenario at 20 Hz with 512 px textures.
+sim::SimulatorOptions renderedScenario(sim::ScenarioKind kind, double duration_s, unsigned seed, double onset_s,
+                                       double conflict_s) {
+  sim::SimulatorOptions o;
+  o.duration_s = duration_s;
+  o.camera_rate_hz = 20.0;
+  o.texture_size = 512;
+  o.seed = seed;
+  o.scenario.kind = kind;
+  o.scenario.onset_s = onset_s;
+  o.scenario.duration_s = conflict_s;
+  return o;
+}
+
+// Tracks frames [first, last) of the simulation, feeding the IMU up to each frame's time, and
+// hands each frame's rendering and result to `visit`.
+template <typename Visit>
+void trackFrames(const sim::Simulator& simulator, const FrontendOptions& options, std::size_t first, std::size_t last,
+                 Visit visit) {
+  FeatureTracker tracker(options);
   tracker.setCalibration(simulator.calibration());
   const auto& times = simulator.frameTimes();
   const auto& imu = simulator.imu();
@@ -42,6 +59,12 @@ void trackScenario(const sim::Simulator& simulator, std::size_t first, std::size
     while (imu_next < imu.size() && imu[imu_next].t <= in.t) in.imu.push_back(imu[imu_next++]);
     const TrackingResult r = tracker.track(in);
     ASSERT_TRUE(r.ok()) << r.message;
+    visit(render, r);
+  }
+}
+
+void trackScenario(const sim::Simulator& simulator, std::size_t first, std::size_t last, ScenarioLabels* out) {
+  trackFrames(simulator, FrontendOptions(), first, last, [&](const sim::StereoRender& render, const TrackingResult& r) {
     out->min_stereo = std::min(out->min_stereo, r.stats.stereo_matched);
     out->conflict_frames += render.label.in_conflict ? 1 : 0;
     for (const auto& f : r.features.features) {
@@ -69,19 +92,12 @@ void trackScenario(const sim::Simulator& simulator, std::size_t first, std::size
         out->static_consistent += f.label == TrackLabel::kConsistent ? 1 : 0;
       }
     }
-  }
+  });
 }
 
+
 TEST(FeatureTrackerSim, PedestrianFeaturesAreInconsistentStaticOnesConsistent) {
-  sim::SimulatorOptions o;
-  o.duration_s = 6.0;
-  o.camera_rate_hz = 20.0;
-  o.texture_size = 512;
-  o.seed = 3;
-  o.scenario.kind = sim::ScenarioKind::kPedestrian;
-  o.scenario.onset_s = 1.0;
-  o.scenario.duration_s = 4.0;
-  const sim::Simulator simulator(o);
+  const sim::Simulator simulator(renderedScenario(sim::ScenarioKind::kPedestrian, 6.0, 3, 1.0, 4.0));
   ScenarioLabels l;
   // 0.5 s .. 5.5 s: before, during and after the walk.
   trackScenario(simulator, 10, 110, &l);
@@ -104,15 +120,7 @@ TEST(FeatureTrackerSim, PedestrianFeaturesAreInconsistentStaticOnesConsistent) {
 // the device: its features stand still in the image while the IMU turns and moves. The IMU says
 // which motion is the device's own, so the laptop must be the inconsistent part, not the world.
 TEST(FeatureTrackerSim, SelfOcclusionFeaturesAreInconsistent) {
-  sim::SimulatorOptions o;
-  o.duration_s = 4.5;
-  o.camera_rate_hz = 20.0;
-  o.texture_size = 512;
-  o.seed = 5;
-  o.scenario.kind = sim::ScenarioKind::kSelfOcclusion;
-  o.scenario.onset_s = 1.0;
-  o.scenario.duration_s = 3.0;
-  const sim::Simulator simulator(o);
+  const sim::Simulator simulator(renderedScenario(sim::ScenarioKind::kSelfOcclusion, 4.5, 5, 1.0, 3.0));
   ScenarioLabels l;
   // 0.5 s .. 4.25 s: before the laptop appears and during its stay.
   trackScenario(simulator, 10, 85, &l);
@@ -153,22 +161,9 @@ struct Reidentification {
 };
 
 void reidentifyScenario(const FrontendOptions& options, Reidentification* out) {
-  sim::SimulatorOptions o;
-  o.duration_s = 9.0;
-  o.camera_rate_hz = 20.0;
-  o.texture_size = 512;
-  o.seed = 5;
-  o.scenario.kind = sim::ScenarioKind::kSelfOcclusion;
-  o.scenario.onset_s = 1.5;
-  o.scenario.duration_s = 4.0;
-  const sim::Simulator simulator(o);
+  const sim::Simulator simulator(renderedScenario(sim::ScenarioKind::kSelfOcclusion, 9.0, 5, 1.5, 4.0));
   const auto& scene = simulator.world().scene;
   const auto& conflicting = simulator.world().conflict_bodies;
-  FeatureTracker tracker(options);
-  tracker.setCalibration(simulator.calibration());
-  const auto& times = simulator.frameTimes();
-  const auto& imu = simulator.imu();
-  std::size_t imu_next = 0;
   struct Seen {
     Eigen::Vector3d p;
     Timestamp t;
@@ -176,16 +171,10 @@ void reidentifyScenario(const FrontendOptions& options, Reidentification* out) {
   std::map<std::uint64_t, Seen> last;  // per track: its static world point when last seen
   std::map<std::uint64_t, bool> alive;
   const double tolerance_m = 0.03;
-  for (std::size_t k = 0; k < times.size(); ++k) {
-    const sim::StereoRender render = simulator.renderFrame(k);
-    StereoInput in;
-    in.t = render.t;
-    in.left = render.cam0;
-    in.right = render.cam1;
-    while (imu_next < imu.size() && imu[imu_next].t <= in.t) in.imu.push_back(imu[imu_next++]);
-    const TrackingResult r = tracker.track(in);
-    ASSERT_TRUE(r.ok()) << r.message;
-    const Eigen::Isometry3d T_WB = simulator.bodyPose(in.t);
+  trackFrames(simulator, options, 0, simulator.frameTimes().size(), [&](const sim::StereoRender& render,
+                                                                       const TrackingResult& r) {
+    const Timestamp t = render.t;
+    const Eigen::Isometry3d T_WB = simulator.bodyPose(t);
     const Eigen::Isometry3d T_WC = T_WB * simulator.calibration().cam0.T_BC;
     std::map<std::uint64_t, bool> now;
     for (const auto& f : r.features.features) {
@@ -193,7 +182,7 @@ void reidentifyScenario(const FrontendOptions& options, Reidentification* out) {
       now[f.track_id] = true;
       const Eigen::Vector3d dir = (T_WC.linear() * f.normalized.homogeneous()).normalized();
       int body = -1;
-      const double hit = scene.castRay(T_WC.translation(), dir, in.t, T_WB, -1, &body);
+      const double hit = scene.castRay(T_WC.translation(), dir, t, T_WB, -1, &body);
       if (!std::isfinite(hit) || body < 0 || std::count(conflicting.begin(), conflicting.end(), body) > 0) continue;
       const Eigen::Vector3d p = T_WC.translation() + hit * dir;
       const auto before = last.find(f.track_id);
@@ -202,16 +191,17 @@ void reidentifyScenario(const FrontendOptions& options, Reidentification* out) {
         out->right += (p - before->second.p).norm() < tolerance_m ? 1 : 0;
       } else if (alive.count(f.track_id) == 0) {
         for (const auto& [id, seen] : last)
-          if (alive.count(id) == 0 && seen.t <= in.t - fromSeconds(3.0) && (p - seen.p).norm() < tolerance_m) {
+          if (alive.count(id) == 0 && seen.t <= t - fromSeconds(3.0) && (p - seen.p).norm() < tolerance_m) {
             ++out->missed;
             break;
           }
       }
-      last[f.track_id] = {p, in.t};
+      last[f.track_id] = {p, t};
     }
     alive = std::move(now);
-  }
+  });
 }
+
 
 TEST(FeatureTrackerSim, ReidentificationIsOffByDefaultAndMeasuredWhenOn) {
   // Off (the default): every corner that comes back is a new track.
