@@ -146,13 +146,19 @@ ConflictIntervalSmoother::Result ConflictIntervalSmoother::finish(const ImuBuffe
       A += wp * Jend.transpose() * Jend;
       b += wp * Jend.transpose() * (reidentified->p - positions.back());
       const Eigen::FullPivLU<Eigen::Matrix<double, 6, 6>> lu6(A);
-      if (lu6.isInvertible()) {
+      const Eigen::Matrix<double, 6, 1> c6 = lu6.solve(b);
+      // The correction at its largest: a constant plus a ramp peaks at one end of the window.
+      const double largest6 = std::max(c6.head<3>().norm(), (c6.head<3>() + c6.tail<3>()).norm());
+      if (lu6.isInvertible() && c6.allFinite() && largest6 <= options_.max_acceleration_correction) {
         c.setZero();
-        c.tail<6>() = lu6.solve(b);
-        largest = std::max(c.segment<3>(3).norm(), (c.segment<3>(3) + c.segment<3>(6)).norm());
+        c.tail<6>() = c6;
+        largest = largest6;
         res.used_reidentified = true;
         note << "; end position from " << reidentified->landmarks << " re-identified landmarks ("
              << miss.norm() << " m from the velocity fit)";
+      } else {
+        note << "; the end position from " << reidentified->landmarks << " re-identified landmarks needs "
+             << largest6 << " m/s^2, not used";
       }
     }
   }
@@ -161,7 +167,6 @@ ConflictIntervalSmoother::Result ConflictIntervalSmoother::finish(const ImuBuffe
     os << "acceleration correction of " << largest << " m/s^2 exceeds smoothing_max_acceleration_correction "
        << options_.max_acceleration_correction << " (the end velocity is not the world's); window left as estimated";
     res.message = os.str();
-    res.used_reidentified = false;
     return res;
   }
   res.revisions.reserve(frames_.size());

@@ -1111,14 +1111,14 @@ bool SlidingWindowEstimator::reidentifiedEnd(const Eigen::Vector3d& p_end,
 void SlidingWindowEstimator::smoothConflictWindow(EstimatorOutput* out) {
   ConflictIntervalSmoother::ReidentifiedEnd end;
   const bool reidentified = reidentifiedEnd(out->p_WB, &end);
-  const Timestamp opened = monitor_->smoothingStartTime();
+  const Timestamp exited = monitor_->smoothingExitTime();
   auto res = monitor_->smoothInterval(imu_, reidentified ? &end : nullptr);
   if (!res.applied) {
     spdlog::warn("{}{}", kLog, res.message);
     return;
   }
-  // What the map learned since the window opened moves with it.
-  map_memory_.shiftAfter(opened, res.shift);
+  // What the map learned since the interval ended (in the drifted window) moves with it.
+  map_memory_.shiftAfter(exited, res.shift);
   // A translation of the whole window: landmarks live in their anchor frames, and the prior keeps
   // its information if its linearisation point moves along.
   for (auto& f : frames_) Eigen::Map<Eigen::Vector3d>(f->pose.data()) += res.shift;

@@ -175,7 +175,7 @@ TEST(ConflictIntervalSmoother, AReidentifiedEndPositionFixesWhatTheVelocityCanno
     for (const auto& r : res.revisions) *worst = std::max(*worst, (r.p_WB - Motion::position(seconds(r.t))).norm());
     return res;
   };
-  double velocity_only = 0, with_end = 0, with_cabin = 0;
+  double velocity_only = 0, with_end = 0, with_cabin = 0, with_far_end = 0;
   run(nullptr, &velocity_only);
   ConflictIntervalSmoother s0(o);
   const Timestamp last = fillWindow(&s0, 12.0);
@@ -190,6 +190,14 @@ TEST(ConflictIntervalSmoother, AReidentifiedEndPositionFixesWhatTheVelocityCanno
               "velocities only\n", with_end, velocity_only);
   EXPECT_LT(with_end, 0.005);
   EXPECT_GT(velocity_only, 0.3);
+  // An end 30 m off would need 0.36 m/s^2 (above smoothing_max_acceleration_correction): the
+  // velocity-only correction stands.
+  end.p.x() += 30.0;
+  const auto far = run(&end, &with_far_end);
+  EXPECT_FALSE(far.used_reidentified);
+  EXPECT_NE(far.message.find("not used"), std::string::npos) << far.message;
+  EXPECT_DOUBLE_EQ(with_far_end, velocity_only);
+  end.p.x() -= 30.0;
   // The landmarks seen again are an elevator cabin's, 8 m below where the ride ended: no held
   // bias error explains that (3 x 0.5 x 0.01 x 13^2 = 2.5 m), and the end is not used.
   o.held_acceleration_sigma = 0.01;

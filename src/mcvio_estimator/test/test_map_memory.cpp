@@ -45,7 +45,7 @@ TEST(MapMemory, ForgetsWhatIsTooOldOrTooMuch) {
   EXPECT_EQ(m.size(), 0u);
 }
 
-TEST(MapMemory, ShiftsOnlyWhatWasSeenAfterTheWindowOpened) {
+TEST(MapMemory, ShiftsOnlyWhatWasSeenAfterTheIntervalEnded) {
   MapMemory m;
   m.remember(1, {0, 0, 0}, fromSeconds(1.0));
   m.remember(2, {0, 0, 0}, fromSeconds(3.0));

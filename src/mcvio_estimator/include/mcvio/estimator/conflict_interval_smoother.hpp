@@ -89,6 +89,8 @@ class ConflictIntervalSmoother {
   /// Exited, and settle_frames frames have been added since.
   bool ready() const;
   Timestamp startTime() const { return t0_; }
+  /// The last frame of the IMU-dominated interval (the start time before the exit).
+  Timestamp exitTime() const { return exit_index_ > 0 && exit_index_ <= frames_.size() ? frames_[exit_index_ - 1].t : t0_; }
 
   /// The estimator's velocity at a frame after the exit (vision back in charge).
   struct SettledVelocity {

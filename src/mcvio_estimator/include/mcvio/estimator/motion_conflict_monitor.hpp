@@ -104,6 +104,8 @@ class MotionConflictMonitor {
   /// When the conflict window opened: its start state's time (the map remembered up to then
   /// is in the frame the window starts in).
   Timestamp smoothingStartTime() const { return smoother_.startTime(); }
+  /// When the IMU-dominated interval of that window ended.
+  Timestamp smoothingExitTime() const { return smoother_.exitTime(); }
   /// Smooths it against the last committed state (and the end position vision gives from
   /// re-identified landmarks, if any) and moves the stored states by the shift.
   ConflictIntervalSmoother::Result smoothInterval(const ImuBuffer& imu,
