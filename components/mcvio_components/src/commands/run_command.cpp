@@ -19,7 +19,7 @@ void addRunCommand(CLI::App& app, CommandContext&) {
       "detected start and its bounds in hindsight), OUT/secondary.tum (the conflicting frame, e.g. an\n"
       "elevator cabin, in the world while it is tracked; final like trajectory.tum, per frame in\n"
       "OUT/secondary_online.tum when revised) and OUT/stats.json (per-stage CPU time,\n"
-      "features, keyframes, resets, peak memory).\n"
+      "features, new and re-identified tracks, keyframes, resets, peak memory).\n"
       "Examples:\n"
       "  mcvio run --dataset ../shared/data/euroc_V1_01_excerpt --out /tmp/run\n"
       "  mcvio run --dataset /tmp/elevator --out /tmp/run_elevator --mode auto\n"
