@@ -314,7 +314,7 @@ TrackingResult FeatureTracker::track(const StereoInput& input) {
   }
   stats.cpu_ms_total = threadCpuMs() - t_start;
   prev_left_pyr_ = std::move(left_pyr);
-  prev_left_ = left;
+  if (options_.reidentify_lost_tracks) prev_left_ = left;
   prev_t_ = input.t;
   has_prev_ = true;
   ++frame_index_;
@@ -359,6 +359,7 @@ void FeatureTracker::trackTemporal(const std::vector<cv::Mat>& cur_pyr,
   const double fb2 = options_.fb_threshold_px * options_.fb_threshold_px;
   lost_.clear();
   kept_prev_.clear();
+  const bool reidentify = options_.reidentify_lost_tracks;
   for (std::size_t i = 0; i < n; ++i) {
     const cv::Point2f d = back_pts[i] - prev_pts[i];
     Eigen::Vector2d norm;
@@ -366,11 +367,11 @@ void FeatureTracker::trackTemporal(const std::vector<cv::Mat>& cur_pyr,
         !cam0.isInImage(toEigen(cur_pts[i]), options_.border_px) ||
         !cam0.unproject(toEigen(cur_pts[i]), &norm)) {
       ++stats->lost;
-      lost_.emplace_back(tracks_[i].id, prev_pts[i]);
+      if (reidentify) lost_.emplace_back(tracks_[i].id, prev_pts[i]);
       continue;
     }
     Track t = std::move(tracks_[i]);
-    kept_prev_.push_back(prev_pts[i]);
+    if (reidentify) kept_prev_.push_back(prev_pts[i]);
     MotionConsistencyChecker::Correspondence c;
     c.prev_normalized = t.left_norm;
     c.cur_normalized = norm;
