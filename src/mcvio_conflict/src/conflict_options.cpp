@@ -79,6 +79,8 @@ void ConflictOptions::validate() const {
   require(bias_drift_fast_factor == 0 || bias_drift_fast_factor >= 1, "bias_drift_fast_factor",
           "must be 0 (off) or >= 1", bias_drift_fast_factor);
   require(bias_drift_fast_frames >= 1, "bias_drift_fast_frames", "must be >= 1", bias_drift_fast_frames);
+  require(bias_drift_long_frames >= 0, "bias_drift_long_frames", "must be >= 0 (0: off)", bias_drift_long_frames);
+  require(bias_drift_long_sigmas > 0, "bias_drift_long_sigmas", "must be > 0", bias_drift_long_sigmas);
   require(enter_frames >= 1, "enter_frames", "must be >= 1", enter_frames);
   require(exit_frames >= 1, "exit_frames", "must be >= 1", exit_frames);
   require(exit_quiet_frames >= 0, "exit_quiet_frames", "must be >= 0 (0: off)", exit_quiet_frames);
@@ -176,6 +178,8 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("bias_drift_min_frames", &o.bias_drift_min_frames);
   read("bias_drift_fast_factor", &o.bias_drift_fast_factor);
   read("bias_drift_fast_frames", &o.bias_drift_fast_frames);
+  read("bias_drift_long_frames", &o.bias_drift_long_frames);
+  read("bias_drift_long_sigmas", &o.bias_drift_long_sigmas);
   read("enter_frames", &o.enter_frames);
   read("exit_frames", &o.exit_frames);
   read("exit_quiet_frames", &o.exit_quiet_frames);

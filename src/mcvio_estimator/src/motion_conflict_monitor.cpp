@@ -73,6 +73,7 @@ void MotionConflictMonitor::reset() {
   entered_on_drift_ = false;
   drift_frames_ = 0;
   fast_drift_frames_ = 0;
+  long_drift_frames_ = 0;
   have_reference_bias_ = false;
   last_disagreed_.clear();
   selective_bias_hold_ = false;
@@ -409,6 +410,34 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     drift_frames_ = 0;
     fast_drift_frames_ = 0;
   }
+  // Slow bias drift (ConflictOptions::bias_drift_long_frames): the same bend against the estimate
+  // of long frames before, when no interval lies in between. It opens the interval with that
+  // estimate as the reference: the one above has followed the bend.
+  const int long_frames = options_.bias_drift_long_frames;
+  const bool long_anchor_valid = long_frames > 0 && !imu_dominated_ && !conflictActive() &&
+                                 (frames_since_interval_ < 0 || frames_since_interval_ >= long_frames) &&
+                                 frames_since_reset_ >= std::max(options_.warmup_frames, options_.bias_drift_arm_frames) + long_frames &&
+                                 history_.size() > static_cast<std::size_t>(long_frames);
+  const std::size_t long_anchor = long_anchor_valid ? history_.size() - 1 - static_cast<std::size_t>(long_frames) : 0;
+  bool long_drift_fired = false;
+  if (long_anchor_valid && !group_seen) {
+    const double drift = (history_.back().state.bias.accel - history_[long_anchor].state.bias.accel).norm();
+    const double limit = options_.bias_drift_long_sigmas * options_.accel_bias_sigma;
+    tested = true;
+    if (drift >= limit) score = std::max(score, drift / limit);
+    long_drift_frames_ = drift >= limit ? long_drift_frames_ + 1 : 0;
+    if (long_drift_frames_ >= options_.bias_drift_min_frames) {
+      long_drift_fired = true;
+      drift_fired = true;
+      whole = true;
+      evidence = true;
+      drift_persisted = true;
+      reference_bias_ = history_[long_anchor].state.bias;
+      have_reference_bias_ = true;
+    }
+  } else {
+    long_drift_frames_ = 0;
+  }
   // Tracks already found moving and still in view keep a partial conflict open: selective
   // elimination has taken them out of the tests above, so without this the interval would close
   // while the pedestrian or the carried object is still there. Only a conflict that is open or
@@ -442,12 +471,14 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
       evidence = true;
   }
   // The interval the bias-drift detector opened goes on while the conflicting frame accelerates
-  // as fast as the drift limit (the horizon's tests miss a gentle ride as they did before), until
-  // the frame is fast enough for the speed hold below. Until that acceleration can be measured
+  // as fast as the drift limit (the horizon's tests miss a gentle ride as they did before), also
+  // once the speed hold below has engaged: that acceleration is evidence, so the speed it gains
+  // counts for the hold (a 40 s ride, still accelerating when the hold engaged at 0.5 m/s, ended
+  // its interval mid-ride at 1.5 m/s without it). Until that acceleration can be measured
   // over bias_reference_lag_frames, the drift that opened the interval stands. Only acceleration
   // along the drift counts: a ride goes on the way the bias bent to explain it, while a held bias
   // a slow object had bent drifts the inertial estimate any way once the object stops.
-  if (options_.bias_drift_sigmas > 0 && imu_dominated_ && drift_opened_ && !speed_hold_engaged_) {
+  if (options_.bias_drift_sigmas > 0 && imu_dominated_ && drift_opened_) {
     const std::size_t lag = static_cast<std::size_t>(std::max(1, options_.bias_reference_lag_frames));
     if (secondary_.valid() && history_.size() >= lag && history_[history_.size() - lag].secondary_valid) {
       const Entry& then = history_[history_.size() - lag];
@@ -595,7 +626,16 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
           break;
         }
       const std::size_t back = static_cast<std::size_t>(std::max(H, options_.rewind_frames));
-      const std::size_t idx = first >= back ? first - back : 0;
+      std::size_t idx = first >= back ? first - back : 0;
+      // A slow drift began long before it fired: rewind_frames before the last estimate still
+      // within a third of its limit of the reference, never before the reference's frame.
+      if (long_drift_fired) {
+        const double near = options_.bias_drift_long_sigmas * options_.accel_bias_sigma / 3.0;
+        std::size_t bend = history_.size() - 1;
+        while (bend > long_anchor && (history_[bend].state.bias.accel - reference_bias_.accel).norm() > near) --bend;
+        const std::size_t rewind = static_cast<std::size_t>(options_.rewind_frames);
+        idx = std::min(idx, std::max(long_anchor, bend >= rewind ? bend - rewind : 0));
+      }
       const Entry* start = history_.empty() ? nullptr : &history_[idx];
       if (start == nullptr) {
         held_bias_ = ImuBias{};
@@ -733,7 +773,7 @@ void MotionConflictMonitor::commit(const State& solved, ConflictReport* report) 
   }
   const std::size_t keep =
       static_cast<std::size_t>(options_.horizon_frames + options_.enter_frames + options_.bias_reference_lag_frames +
-                               options_.rewind_frames +
+                               options_.rewind_frames + std::max(0, options_.bias_drift_long_frames) +
                                std::max(options_.exit_velocity_frames, options_.exit_velocity_frames_after_hold) + 10);
   while (history_.size() > keep) history_.pop_front();
 }

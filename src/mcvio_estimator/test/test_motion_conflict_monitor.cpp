@@ -949,6 +949,61 @@ TEST(MotionConflictMonitor, AnAccelerometerBiasBentPastItsLimitIsEvidence) {
   for (const auto& f : early) EXPECT_FALSE(inConflict(f));
 }
 
+TEST(MotionConflictMonitor, ASlowBiasDriftOpensAWholeViewIntervalRewoundToItsStart) {
+  // A ride easing in over tens of seconds: the committed accelerometer bias ramps by 0.0004 m/s^2
+  // per frame from kRampFrame, 0.016 m/s^2 over the 40-frame lag the reference bias follows it
+  // with, so the bias-drift test against that reference never reaches its 0.05 m/s^2. Against
+  // the estimate of bias_drift_long_frames (200) before, the drift passes 3.5 x 0.02 m/s^2 175
+  // frames into the ramp; after bias_drift_min_frames such frames the interval opens,
+  // IMU-dominated, holding the pre-ramp bias, and rewinds to rewind_frames before the last
+  // estimate within a third of the limit (0.0233 m/s^2: ramp frame 58).
+  constexpr int kRampFrame = 420;  // the slow test arms at 200 + 200 frames
+  constexpr double kPerFrame = 0.0004;
+  Scenario sc;
+  sc.traj.v0 = Eigen::Vector3d(0.05, 0, 0);  // slow enough to keep the points ahead for 34 s
+  sc.traj.accel_x = 0;
+  sc.points = staticPoints(80, 0, 11);
+  sc.committed_bias = accelBiasRamp(kRampFrame, kPerFrame, 1.0);
+  const conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
+  ASSERT_EQ(o.bias_drift_long_frames, 200);
+  ASSERT_DOUBLE_EQ(o.bias_drift_long_sigmas, 3.5);
+  const int total = kRampFrame + 260;
+  const auto frames = run(sc, o, total);
+  // The report of frame k tests the bias committed at k - 1 against the one of k - 201.
+  const double limit = o.bias_drift_long_sigmas * o.accel_bias_sigma;
+  int crossed = -1;
+  for (int k = kRampFrame; k < total && crossed < 0; ++k)
+    if (sc.committed_bias(k - 1).accel.z() - sc.committed_bias(k - 1 - o.bias_drift_long_frames).accel.z() >= limit)
+      crossed = k;
+  ASSERT_GT(crossed, kRampFrame + 170);
+  const int opened = firstFrame(frames, inConflict);
+  ASSERT_GT(opened, 0);
+  for (int k = 0; k < opened; ++k) {
+    ASSERT_EQ(frames[k].decision.report.state, ConflictReport::State::kNone) << "frame " << k;
+    ASSERT_LT(frames[k].decision.report.accel_bias_drift, 0.05) << "the fast test stays quiet, frame " << k;
+  }
+  EXPECT_EQ(opened, crossed + o.bias_drift_min_frames - 1);
+  const auto& d = frames[opened].decision;
+  EXPECT_TRUE(d.imu_dominated) << "a whole-view conflict";
+  EXPECT_LT(d.held_bias.accel.norm(), 1e-12) << "the bias before the ramp, not the followed one";
+  ASSERT_TRUE(d.rewind);
+  int bend = opened - 1;
+  while (sc.committed_bias(bend).accel.z() > limit / 3.0) --bend;
+  EXPECT_EQ(d.rewind_t, frameTime(bend - o.rewind_frames));
+  EXPECT_LT(d.rewind_t, frameTime(kRampFrame + 20));
+  EXPECT_GE(d.rewind_t, frameTime(opened - 1 - o.bias_drift_long_frames)) << "not before the reference";
+
+  // Off: nothing. Nor for a bend that stays under the limit (a clean IMU's walk). A ramp from
+  // frame 100 waits for the arming (frame 400), then for bias_drift_min_frames frames.
+  conflict::ConflictOptions off = o;
+  off.bias_drift_long_frames = 0;
+  for (const auto& f : run(sc, off, total)) ASSERT_FALSE(inConflict(f));
+  sc.committed_bias = accelBiasRamp(kRampFrame, kPerFrame, 0.065);
+  for (const auto& f : run(sc, o, total)) ASSERT_FALSE(inConflict(f));
+  sc.committed_bias = accelBiasRamp(100, kPerFrame, 1.0);
+  EXPECT_EQ(firstFrame(run(sc, o, 460), inConflict), 400 + o.bias_drift_min_frames - 1);
+}
+
 TEST(MotionConflictMonitor, ABriskBiasBendIsEvidenceWithinTwoFrames) {
   // A vehicle starting briskly: the committed accelerometer bias bends by 0.02 m/s^2 per frame.
   // Its drift passes bias_drift_fast_factor x the limit (1.5 x 0.05) in the report of frame

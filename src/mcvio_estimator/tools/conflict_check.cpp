@@ -202,8 +202,12 @@ int main(int argc, char** argv) {
   const auto a = align4(pe, pg);
   double sq = 0, sqc = 0;
   int nc = 0;
+  std::ofstream errors;
+  if (const char* path = std::getenv("MCVIO_DUMP_ERRORS")) errors.open(path);
   for (std::size_t i = 0; i < pe.size(); ++i) {
-    const double e2 = (a.R * (pe[i] - a.me) + a.mg - pg[i]).squaredNorm();
+    const Eigen::Vector3d e = a.R * (pe[i] - a.me) + a.mg - pg[i];
+    if (errors) errors << pt[i] << ' ' << e.transpose() << ' ' << int(in_conf[i]) << '\n';
+    const double e2 = e.squaredNorm();
     sq += e2;
     if (in_conf[i]) {
       sqc += e2;

@@ -135,6 +135,15 @@ struct ConflictOptions {
   /// under 0.03.
   double bias_drift_fast_factor = 1.5;
   int bias_drift_fast_frames = 2;
+  /// Slow bias drift: a long ride eases in so gently (a 40 s elevator: 0.126 m/s^2 at its peak,
+  /// 10 s after the start) that the bias bends no faster than the reference above follows it.
+  /// Against the estimate of this many frames before, with no interval in between, the bend
+  /// still shows; over bias_drift_long_sigmas accel_bias_sigma for bias_drift_min_frames frames it
+  /// opens a whole-view interval that holds that earlier bias and rewinds to where the bend began.
+  /// Feature-level clean runs (seeds 1-9, 60 s) stay within 0.040 m/s^2 over 200 frames; the 40 s
+  /// ride passes 0.07 m/s^2 4.3 s after it starts. 0 frames: off.
+  int bias_drift_long_frames = 200;
+  double bias_drift_long_sigmas = 3.5;
   int enter_frames = 2;                ///< consecutive frames with evidence to open an interval
   int exit_frames = 5;                 ///< consecutive clean frames to close it (0.25 s at 20 Hz)
   /// ... or, inside an IMU-dominated interval, this many consecutive clean frames, each with an

@@ -190,6 +190,7 @@ class MotionConflictMonitor {
   bool speed_hold_holding_ = false;  ///< ... and did on the last frame
   int drift_frames_ = 0;             ///< consecutive frames with the bias drift over its limit
   int fast_drift_frames_ = 0;        ///< ... and over bias_drift_fast_factor times it
+  int long_drift_frames_ = 0;        ///< consecutive frames with the slow drift (bias_drift_long_frames) over its limit
   ConflictIntervalSmoother smoother_;
   double evidence_secondary_speed_ = 0;  ///< fastest along the peak while the detectors had evidence
   Eigen::Vector3d peak_secondary_velocity_ = Eigen::Vector3d::Zero();  ///< fastest in this IMU-dominated interval
