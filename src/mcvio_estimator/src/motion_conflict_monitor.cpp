@@ -475,7 +475,9 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   // once the speed hold below has engaged: that acceleration is evidence, so the speed it gains
   // counts for the hold (a 40 s ride, still accelerating when the hold engaged at 0.5 m/s, ended
   // its interval mid-ride at 1.5 m/s without it). Until that acceleration can be measured
-  // over bias_reference_lag_frames, the drift that opened the interval stands. Only acceleration
+  // over bias_reference_lag_frames, the drift that opened the interval stands, but only before
+  // the speed hold engaged (a 40 s ride whose secondary motion was lost 30 s in stayed open for
+  // good). Only acceleration
   // along the drift counts: a ride goes on the way the bias bent to explain it, while a held bias
   // a slow object had bent drifts the inertial estimate any way once the object stops.
   if (options_.bias_drift_sigmas > 0 && imu_dominated_ && drift_opened_) {
@@ -485,7 +487,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
       const double span = toSeconds(t - then.t);
       const double accel = span > 0 ? (secondary_.v_WS() - then.v_WS).dot(drift_direction_W_) / span : 0.0;
       if (accel >= options_.bias_drift_sigmas * options_.accel_bias_sigma) evidence = true;
-    } else {
+    } else if (!speed_hold_engaged_) {
       evidence = true;
     }
   }
@@ -493,9 +495,11 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   // Speed along the direction of the peak: the IMU-only estimate drifts sideways over a long ride.
   // Only speed the frame gained while the detectors saw it accelerate counts: an inertial estimate
   // drifting after a false alarm gains speed with no evidence, and must not hold its interval.
+  // Nor does the peak turn round: past a stop, speed the other way is the inertial estimate
+  // drifting on (a 40 s ride of the sweep stayed open 7 s after it stopped).
   if (imu_dominated_ && secondary_.valid()) {
     const Eigen::Vector3d& v = secondary_.v_WS();
-    if (v.norm() > peak_secondary_velocity_.norm()) peak_secondary_velocity_ = v;
+    if (v.norm() > peak_secondary_velocity_.norm() && v.dot(peak_secondary_velocity_) >= 0) peak_secondary_velocity_ = v;
     const double peak = peak_secondary_velocity_.norm();
     const double along = peak > 0 ? v.dot(peak_secondary_velocity_) / peak : 0.0;
     if (evidence) evidence_secondary_speed_ = std::max(evidence_secondary_speed_, along);

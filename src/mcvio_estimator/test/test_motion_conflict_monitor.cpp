@@ -1222,6 +1222,37 @@ TEST(MotionConflictMonitor, AStoppedCabinClosesItsIntervalOnQuietFrames) {
     EXPECT_LT(quiet_run[k].decision.report.evidence_score, o.exit_quiet_score) << "frame " << k;
 }
 
+TEST(MotionConflictMonitor, AnInertialDriftPastTheStopDoesNotHoldTheInterval) {
+  // The cruising cabin brakes to a stop, but the committed (inertial) estimate keeps braking: from
+  // the start of the braking it loses 2.5 m/s per second more than the cabin, until it goes down
+  // at 1.7 m/s (1.6 s after the stop), faster than the cruise was, slower than the 1.25 x that the
+  // hold allows. That speed is the cabin's direction reversed: it must not become the peak the
+  // speed hold measures against (a 40 s ride of the sweep, held bias 0.04 m/s^2 off, stayed
+  // IMU-dominated 7 s after it stopped).
+  Scenario sc = cabin(80, kCabinFrame);
+  sc.traj.pulse_peak = 3.0;
+  sc.traj.brake_start_s = sc.traj.pulse_start_s + 3.0;
+  const int brake_frame = kCabinFrame + 60;
+  const int stop_frame = kCabinFrame + 80;
+  constexpr double kDrift = 2.5, kDriftSpeed = 3.2;  // m/s^2, m/s (1.5 of the cruise, 1.7 beyond)
+  sc.commit_adjust = [=](int k, const MotionConflictMonitor::Decision& d, MotionConflictMonitor::State* s) {
+    if (!d.imu_dominated || k < brake_frame) return;
+    const double dt = frameSeconds(k) - frameSeconds(brake_frame), ramp = kDriftSpeed / kDrift;
+    s->v.z() -= kDrift * std::min(dt, ramp);
+    s->p.z() -= dt < ramp ? 0.5 * kDrift * dt * dt : 0.5 * kDriftSpeed * ramp + kDriftSpeed * (dt - ramp);
+  };
+  const int frames_total = stop_frame + 100;
+  const auto frames = run(sc, withMode(conflict::ResolutionMode::kImu), frames_total);
+  const int entry = firstFrame(frames, [](const Frame& f) { return f.decision.imu_dominated; });
+  ASSERT_GT(entry, kCabinFrame);
+  ASSERT_LE(entry, kCabinFrame + kMaxCabinEntryDelay);
+  const int exit = firstFrame(frames, [&](const Frame& f) { return &f - frames.data() > entry && !f.decision.imu_dominated; });
+  ASSERT_GT(exit, entry);
+  // The drifting estimate may hold the interval while its speed falls (the braking it saw), not
+  // once it has turned: 1.5 m/s downwards is reached 32 frames after the stop.
+  EXPECT_LT(exit, stop_frame + 32) << "exit " << exit << ", stop " << stop_frame;
+}
+
 TEST(MotionConflictMonitor, AnIntervalEndingWithAVelocityJumpRestartsAtVisionsVelocity) {
   // The cruising cabin without the hold: the interval ends while the cabin moves at 1.5 m/s with
   // the device at rest inside it. The inertial velocity (the committed true 1.5 m/s) and vision's

@@ -363,6 +363,8 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_EQ(c.bias_drift_min_frames, dc.bias_drift_min_frames);
   EXPECT_DOUBLE_EQ(c.bias_drift_fast_factor, dc.bias_drift_fast_factor);
   EXPECT_EQ(c.bias_drift_fast_frames, dc.bias_drift_fast_frames);
+  EXPECT_EQ(c.bias_drift_long_frames, dc.bias_drift_long_frames);
+  EXPECT_DOUBLE_EQ(c.bias_drift_long_sigmas, dc.bias_drift_long_sigmas);
   EXPECT_DOUBLE_EQ(c.split_chi2_threshold, dc.split_chi2_threshold);
   EXPECT_EQ(c.split_min_frames, dc.split_min_frames);
   EXPECT_EQ(c.keep_consistent_rotation, dc.keep_consistent_rotation);
@@ -371,7 +373,7 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_EQ(c.exit_velocity_frames_after_hold, dc.exit_velocity_frames_after_hold);
   EXPECT_EQ(c.smoothing_reidentified_min_landmarks, dc.smoothing_reidentified_min_landmarks);
   EXPECT_DOUBLE_EQ(c.smoothing_settled_velocity_sigma, dc.smoothing_settled_velocity_sigma);
-  EXPECT_EQ(root["conflict"].size(), 70u) << "every conflict option appears once";
+  EXPECT_EQ(root["conflict"].size(), 72u) << "every conflict option appears once";
 }
 
 }  // namespace
