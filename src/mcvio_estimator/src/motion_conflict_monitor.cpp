@@ -474,12 +474,12 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   // as fast as the drift limit (the horizon's tests miss a gentle ride as they did before), also
   // once the speed hold below has engaged: that acceleration is evidence, so the speed it gains
   // counts for the hold (a 40 s ride, still accelerating when the hold engaged at 0.5 m/s, ended
-  // its interval mid-ride at 1.5 m/s without it). Until that acceleration can be measured
-  // over bias_reference_lag_frames, the drift that opened the interval stands, but only before
-  // the speed hold engaged (a 40 s ride whose secondary motion was lost 30 s in stayed open for
-  // good). Only acceleration
-  // along the drift counts: a ride goes on the way the bias bent to explain it, while a held bias
-  // a slow object had bent drifts the inertial estimate any way once the object stops.
+  // its interval mid-ride at 1.5 m/s without it). Until that acceleration can be measured over
+  // bias_reference_lag_frames, the drift that opened the interval stands, but only before the
+  // speed hold engaged (a 40 s ride whose secondary motion was lost 30 s in stayed open for good).
+  // Only acceleration along the drift counts: a ride goes on the way the bias bent to explain it,
+  // while a held bias a slow object had bent drifts the inertial estimate any way once the object
+  // stops.
   if (options_.bias_drift_sigmas > 0 && imu_dominated_ && drift_opened_) {
     const std::size_t lag = static_cast<std::size_t>(std::max(1, options_.bias_reference_lag_frames));
     if (secondary_.valid() && history_.size() >= lag && history_[history_.size() - lag].secondary_valid) {

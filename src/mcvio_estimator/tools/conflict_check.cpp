@@ -3,6 +3,9 @@
 // TPR/FPR, the elevator's vertical displacement, and optionally a per-frame CSV.
 //   [MCVIO_ESTIMATOR_CONFIG=options.yaml] conflict_check SCENARIO MODE [duration_s] [seed] [csv|-] [onset_s] [conflict_s]
 //   [travel_m]   (travel as `mcvio bench`'s duration sweep sets it: 0.8 m/s x conflict_s elevator, 4 m/s vehicle)
+// Environment: MCVIO_CLEAR_TRACK_LABELS=1 (no oracle labels, as `mcvio bench`), MCVIO_REIDENTIFY=p
+// (re-identifying frontend model), MCVIO_DUMP_REVISIONS=file (the conflict window's revisions),
+// MCVIO_DUMP_ERRORS=file (t, aligned position error xyz, label per frame).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -141,7 +141,8 @@ struct ConflictOptions {
   /// still shows; over bias_drift_long_sigmas accel_bias_sigma for bias_drift_min_frames frames it
   /// opens a whole-view interval that holds that earlier bias and rewinds to where the bend began.
   /// Feature-level clean runs (seeds 1-9, 60 s) stay within 0.040 m/s^2 over 200 frames; the 40 s
-  /// ride passes 0.07 m/s^2 4.3 s after it starts. 0 frames: off.
+  /// rides of seeds 1-9 pass 0.07 m/s^2 4.3-6 s after they start. A real IMU's estimate wanders
+  /// more (see the image pipeline's config). 0 frames: off.
   int bias_drift_long_frames = 200;
   double bias_drift_long_sigmas = 3.5;
   int enter_frames = 2;                ///< consecutive frames with evidence to open an interval
