@@ -259,6 +259,17 @@ Scenario cabin(int points, int cabin_frame) {
   return sc;
 }
 
+/// The cabin of kCabinFrame accelerating to 1.5 m/s in a 1 s pulse of 3 m/s^2, cruising, braking
+/// from kBrakeFrame (the same pulse reversed) and standing still from kStopFrame on.
+constexpr int kBrakeFrame = kCabinFrame + 60;
+constexpr int kStopFrame = kCabinFrame + 80;
+Scenario stoppingCabin() {
+  Scenario sc = cabin(80, kCabinFrame);
+  sc.traj.pulse_peak = 3.0;
+  sc.traj.brake_start_s = frameSeconds(kBrakeFrame);
+  return sc;
+}
+
 }  // namespace
 
 TEST(MotionConflictMonitor, StaticWorldWithConsistentImuRaisesNoConflict) {
@@ -1163,10 +1174,8 @@ TEST(MotionConflictMonitor, AStoppingCabinLeavesTheTestSoonerOnceTheSpeedHoldLet
   // The cruising cabin brakes after 2 s (the same pulse reversed) and stands still from then on.
   // Once its speed falls below the hold's share of the peak, vision's velocity is taken over
   // exit_velocity_frames_after_hold frames, so the braking leaves the acceleration test sooner.
-  Scenario sc = cabin(80, kCabinFrame);
-  sc.traj.pulse_peak = 3.0;
-  sc.traj.brake_start_s = sc.traj.pulse_start_s + 3.0;
-  const int stop_frame = kCabinFrame + 80;
+  const Scenario sc = stoppingCabin();
+  const int stop_frame = kStopFrame;
   ASSERT_NEAR(sc.traj.velocity(frameSeconds(stop_frame)).z(), 0.0, 1e-9);
   const int frames_total = stop_frame + 80;
   auto exitFrame = [&](int after_hold_frames, int* entry) {
@@ -1194,10 +1203,8 @@ TEST(MotionConflictMonitor, AStoppingCabinLeavesTheTestSoonerOnceTheSpeedHoldLet
 // exit_quiet_frames such frames close the IMU-dominated interval before exit_frames clean ones
 // would, never before the cabin has stopped.
 TEST(MotionConflictMonitor, AStoppedCabinClosesItsIntervalOnQuietFrames) {
-  Scenario sc = cabin(80, kCabinFrame);
-  sc.traj.pulse_peak = 3.0;
-  sc.traj.brake_start_s = sc.traj.pulse_start_s + 3.0;
-  const int stop_frame = kCabinFrame + 80;
+  const Scenario sc = stoppingCabin();
+  const int stop_frame = kStopFrame;
   const int frames_total = stop_frame + 80;
   conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kImu);
   ASSERT_EQ(o.exit_quiet_frames, 2) << "the default";
@@ -1229,11 +1236,8 @@ TEST(MotionConflictMonitor, AnInertialDriftPastTheStopDoesNotHoldTheInterval) {
   // hold allows. That speed is the cabin's direction reversed: it must not become the peak the
   // speed hold measures against (a 40 s ride of the sweep, held bias 0.04 m/s^2 off, stayed
   // IMU-dominated 7 s after it stopped).
-  Scenario sc = cabin(80, kCabinFrame);
-  sc.traj.pulse_peak = 3.0;
-  sc.traj.brake_start_s = sc.traj.pulse_start_s + 3.0;
-  const int brake_frame = kCabinFrame + 60;
-  const int stop_frame = kCabinFrame + 80;
+  Scenario sc = stoppingCabin();
+  const int brake_frame = kBrakeFrame, stop_frame = kStopFrame;
   constexpr double kDrift = 2.5, kDriftSpeed = 3.2;  // m/s^2, m/s (1.5 of the cruise, 1.7 beyond)
   sc.commit_adjust = [=](int k, const MotionConflictMonitor::Decision& d, MotionConflictMonitor::State* s) {
     if (!d.imu_dominated || k < brake_frame) return;
