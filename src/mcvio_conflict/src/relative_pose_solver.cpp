@@ -12,58 +12,83 @@ RelativePoseSolver::Result RelativePoseSolver::solve(const std::vector<TrackedPo
   Result res;
   if (static_cast<int>(points.size()) < options_.min_points) return res;
   const Eigen::Isometry3d T_CB = rig_.T_BC0.inverse();
+  const Eigen::Matrix3d R_CB = T_CB.linear();
+  const Eigen::Vector3d t_CB = T_CB.translation();
   const double f = rig_.focal_px;
   const double s2_px = options_.observation_sigma_px * options_.observation_sigma_px;
-  // Residual weight relative to pixel noise alone: sigma^2 (sigma^2 I + a a^T)^-1, a = the pixel
-  // shift of one depth sigma at r (Sherman-Morrison). The identity without depth uncertainty.
-  auto weight = [&](const TrackedPoint& p, const Eigen::Matrix3d& R, const Eigen::Matrix<double, 2, 3>& Jp_f) {
-    Eigen::Matrix2d W = Eigen::Matrix2d::Identity();
-    if (!options_.depth_weighting || !(p.depth_sigma_r > 0)) return W;
-    const Eigen::Vector2d a = Jp_f * (T_CB.linear() * (R.transpose() * p.ray_r)) * p.depth_sigma_r;
-    W -= a * a.transpose() / (s2_px + a.squaredNorm());
-    return W;
-  };
-  // Point i in cam0 of k under (R, t): its pixel residual and d(normalised image)/d(X_c); false
-  // behind the camera.
-  auto project = [&](const TrackedPoint& p, const Eigen::Matrix3d& R, const Eigen::Vector3d& t, Eigen::Vector3d* X_k,
-                     Eigen::Vector2d* r, Eigen::Matrix<double, 2, 3>* Jp) {
-    *X_k = R.transpose() * (p.X_r - t);
-    const Eigen::Vector3d X_c = T_CB * *X_k;
-    if (X_c.z() < 0.05) return false;
-    const double iz = 1.0 / X_c.z();
-    *r = f * (X_c.head<2>() * iz - p.n0_k);
-    *Jp << iz, 0, -X_c.x() * iz * iz, 0, iz, -X_c.y() * iz * iz;
-    return true;
-  };
   Eigen::Matrix3d R = initial.R;
   Eigen::Vector3d t = initial.t;
+
+  // Point p in cam0 of k under (R, t), with Rt = R^T and R_CB_Rt = R_CB R^T: its pixel residual
+  // r, the whitening of r (W = I - beta a a^T) and, if J is given, d r / d [dtheta, dt]; false
+  // behind the camera. The weight is relative to pixel noise alone: sigma^2 (sigma^2 I + a a^T)^-1,
+  // a = the pixel shift of one depth sigma at r (Sherman-Morrison); beta = 0 without depth
+  // uncertainty.
+  struct Linearized {
+    Eigen::Vector2d r;
+    Eigen::Vector2d a;
+    double beta = 0;
+    Eigen::Matrix<double, 2, 6> J;
+    double whitenedNorm() const {
+      const double ar = a.dot(r);
+      return std::sqrt(std::max(0.0, r.squaredNorm() - beta * ar * ar));
+    }
+  };
+  auto linearize = [&](const TrackedPoint& p, const Eigen::Matrix3d& Rt, const Eigen::Matrix3d& R_CB_Rt,
+                       bool jacobian, Linearized* l) {
+    const Eigen::Vector3d X_k = Rt * (p.X_r - t);
+    const Eigen::Vector3d X_c = R_CB * X_k + t_CB;
+    if (X_c.z() < 0.05) return false;
+    const double iz = 1.0 / X_c.z();
+    l->r = f * (X_c.head<2>() * iz - p.n0_k);
+    // P: d pixel / d X_c.
+    Eigen::Matrix<double, 2, 3> P;
+    P << f * iz, 0, -f * X_c.x() * iz * iz, 0, f * iz, -f * X_c.y() * iz * iz;
+    l->beta = 0;
+    l->a.setZero();
+    if (options_.depth_weighting && p.depth_sigma_r > 0) {
+      l->a = P * (R_CB_Rt * p.ray_r) * p.depth_sigma_r;
+      l->beta = 1.0 / (s2_px + l->a.squaredNorm());
+    }
+    if (jacobian) {
+      const Eigen::Matrix<double, 2, 3> PR = P * R_CB;
+      // d X_k / d dtheta = hat(X_k) (right perturbation of R): row i of PR hat(X_k) is PR_i x X_k.
+      l->J.row(0).head<3>() = PR.row(0).transpose().cross(X_k).transpose();
+      l->J.row(1).head<3>() = PR.row(1).transpose().cross(X_k).transpose();
+      l->J.rightCols<3>() = -P * R_CB_Rt;  // d X_k / d dt = -R^T
+    }
+    return true;
+  };
   std::vector<char> use(points.size(), 1);
   Eigen::Matrix<double, 6, 6> H;
 
   auto pass = [&](bool robust, int iterations) {
     for (int it = 0; it < iterations; ++it) {
+      const Eigen::Matrix3d Rt = R.transpose();
+      const Eigen::Matrix3d R_CB_Rt = R_CB * Rt;
       H.setZero();
       Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
       int n = 0;
+      Linearized l;
       for (std::size_t i = 0; i < points.size(); ++i) {
         if (!use[i]) continue;
-        Eigen::Vector3d X_k;
-        Eigen::Vector2d r;
-        Eigen::Matrix<double, 2, 3> Jp;
-        if (!project(points[i], R, t, &X_k, &r, &Jp)) continue;
-        Eigen::Matrix<double, 3, 6> Jx;
-        Jx.leftCols<3>() = so3::hat(X_k);   // d X_k / d dtheta (right perturbation of R)
-        Jx.rightCols<3>() = -R.transpose();  // d X_k / d dt
-        const Eigen::Matrix<double, 2, 6> J = f * Jp * T_CB.linear() * Jx;
-        const Eigen::Matrix2d W = weight(points[i], R, f * Jp);
+        if (!linearize(points[i], Rt, R_CB_Rt, true, &l)) continue;
         double w = 1.0;
-        const double e = std::sqrt(r.dot(W * r));
-        if (robust && e > options_.huber_px) w = options_.huber_px / e;
-        H += w * J.transpose() * W * J;
-        g += w * J.transpose() * W * r;
+        if (robust) {
+          const double e = l.whitenedNorm();
+          if (e > options_.huber_px) w = options_.huber_px / e;
+        }
+        // J^T W J = J^T J - beta u u^T with u = J^T a: three symmetric rank-one updates.
+        const Eigen::Matrix<double, 6, 1> j0 = l.J.row(0).transpose(), j1 = l.J.row(1).transpose();
+        const Eigen::Matrix<double, 6, 1> u = l.J.transpose() * l.a;
+        const Eigen::Matrix<double, 6, 1> wj0 = w * j0, wj1 = w * j1, wu = (-w * l.beta) * u;
+        for (int c = 0; c < 6; ++c)
+          for (int r = 0; r <= c; ++r) H(r, c) += wj0[r] * j0[c] + wj1[r] * j1[c] + wu[r] * u[c];
+        g += w * (l.J.transpose() * l.r - l.beta * l.a.dot(l.r) * u);
         ++n;
       }
       if (n < options_.min_points) return false;
+      H.triangularView<Eigen::StrictlyLower>() = H.transpose();
       const Eigen::Matrix<double, 6, 1> dx = H.ldlt().solve(-g);
       if (!dx.allFinite()) return false;
       R = R * so3::exp(dx.head<3>());
@@ -77,15 +102,17 @@ RelativePoseSolver::Result RelativePoseSolver::solve(const std::vector<TrackedPo
   // Re-fit on inliers only so a moving minority does not bias the answer.
   double sum2 = 0;
   int inliers = 0;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    Eigen::Vector3d X_k;
-    Eigen::Vector2d r;
-    Eigen::Matrix<double, 2, 3> Jp;
-    const double e = project(points[i], R, t, &X_k, &r, &Jp) ? std::sqrt(r.dot(weight(points[i], R, f * Jp) * r)) : 1e9;
-    use[i] = e < options_.outlier_px ? 1 : 0;
-    if (use[i]) {
-      ++inliers;
-      sum2 += e * e;
+  {
+    const Eigen::Matrix3d Rt = R.transpose();
+    const Eigen::Matrix3d R_CB_Rt = R_CB * Rt;
+    Linearized l;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const double e = linearize(points[i], Rt, R_CB_Rt, false, &l) ? l.whitenedNorm() : 1e9;
+      use[i] = e < options_.outlier_px ? 1 : 0;
+      if (use[i]) {
+        ++inliers;
+        sum2 += e * e;
+      }
     }
   }
   if (inliers < options_.min_points) return res;

@@ -54,41 +54,54 @@ void ImuPreintegrator::step(const ImuSample& s0, const ImuSample& s1) {
   const Eigen::Matrix3d Jr = so3::rightJacobian(w * dt);
   const Eigen::Vector3d acc = 0.5 * (R0 * a0 + R1 * a1);
 
-  // Error-state transition F of [dtheta, dv, dp, dbg, dba] for this step; the same blocks
-  // propagate the bias Jacobians, which makes those exact derivatives of the midpoint scheme.
-  Eigen::Matrix<double, 15, 15> F = Eigen::Matrix<double, 15, 15>::Identity();
+  // Error-state transition of [dtheta, dv, dp | dbg, dba] for this step: F = [A B; 0 I], A 9x9,
+  // B 9x6. The same blocks propagate the bias Jacobians, which makes those exact derivatives of
+  // the midpoint scheme. The products below use that structure (the bias rows of F are the
+  // identity): about a third of the work of full 15x15 products.
   const Eigen::Matrix3d v_theta = -0.5 * dt * (R0 * so3::hat(a0) + R1 * so3::hat(a1) * dR.transpose());
   const Eigen::Matrix3d v_bg = 0.5 * dt * dt * R1 * so3::hat(a1) * Jr;
   const Eigen::Matrix3d v_ba = -0.5 * dt * (R0 + R1);
-  F.block<3, 3>(0, 0) = dR.transpose();
-  F.block<3, 3>(0, 9) = -Jr * dt;
-  F.block<3, 3>(3, 0) = v_theta;
-  F.block<3, 3>(3, 9) = v_bg;
-  F.block<3, 3>(3, 12) = v_ba;
-  F.block<3, 3>(6, 0) = 0.5 * dt * v_theta;
-  F.block<3, 3>(6, 3) = Eigen::Matrix3d::Identity() * dt;
-  F.block<3, 3>(6, 9) = 0.5 * dt * v_bg;
-  F.block<3, 3>(6, 12) = 0.5 * dt * v_ba;
+  Eigen::Matrix<double, 9, 9> A = Eigen::Matrix<double, 9, 9>::Identity();
+  Eigen::Matrix<double, 9, 6> B = Eigen::Matrix<double, 9, 6>::Zero();
+  A.block<3, 3>(0, 0) = dR.transpose();
+  B.block<3, 3>(0, 0) = -Jr * dt;
+  A.block<3, 3>(3, 0) = v_theta;
+  B.block<3, 3>(3, 0) = v_bg;
+  B.block<3, 3>(3, 3) = v_ba;
+  A.block<3, 3>(6, 0) = 0.5 * dt * v_theta;
+  A.block<3, 3>(6, 3) = Eigen::Matrix3d::Identity() * dt;
+  B.block<3, 3>(6, 0) = 0.5 * dt * v_bg;
+  B.block<3, 3>(6, 3) = 0.5 * dt * v_ba;
 
-  // Noise input [n_g, n_a, n_bg, n_ba] with discrete variances from the continuous densities.
-  Eigen::Matrix<double, 15, 12> G = Eigen::Matrix<double, 15, 12>::Zero();
-  G.block<3, 3>(0, 0) = Jr * dt;
-  G.block<3, 3>(3, 0) = -v_bg;
-  G.block<3, 3>(3, 3) = -v_ba;
-  G.block<3, 3>(6, 0) = -0.5 * dt * v_bg;
-  G.block<3, 3>(6, 3) = -0.5 * dt * v_ba;
-  G.block<3, 3>(9, 6).setIdentity();
-  G.block<3, 3>(12, 9).setIdentity();
-  Eigen::Matrix<double, 12, 1> q;
+  // Noise input [n_g, n_a] into the first nine rows (G1), with discrete variances from the
+  // continuous densities; the bias random walks add to the bias block directly.
+  Eigen::Matrix<double, 9, 6> G1 = Eigen::Matrix<double, 9, 6>::Zero();
+  G1.block<3, 3>(0, 0) = Jr * dt;
+  G1.block<3, 3>(3, 0) = -v_bg;
+  G1.block<3, 3>(3, 3) = -v_ba;
+  G1.block<3, 3>(6, 0) = -0.5 * dt * v_bg;
+  G1.block<3, 3>(6, 3) = -0.5 * dt * v_ba;
   const double g2 = noise_.gyroscope_noise_density * noise_.gyroscope_noise_density / dt;
   const double a2 = noise_.accelerometer_noise_density * noise_.accelerometer_noise_density / dt;
   const double bg2 = noise_.gyroscope_random_walk * noise_.gyroscope_random_walk * dt;
   const double ba2 = noise_.accelerometer_random_walk * noise_.accelerometer_random_walk * dt;
-  q << g2, g2, g2, a2, a2, a2, bg2, bg2, bg2, ba2, ba2, ba2;
+  Eigen::Matrix<double, 6, 1> q1;
+  q1 << g2, g2, g2, a2, a2, a2;
 
-  covariance_ = F * covariance_ * F.transpose() + G * q.asDiagonal() * G.transpose();
-  covariance_ = 0.5 * (covariance_ + covariance_.transpose());
-  jac_bias_ = F.block<9, 9>(0, 0) * jac_bias_ + F.block<9, 6>(0, 9);
+  // [P11 P12; P21 P22] -> [M A^T + N B^T + G1 Q G1^T, N; N^T, P22 + Q_bias], M = A P11 + B P21,
+  // N = A P12 + B P22.
+  const Eigen::Matrix<double, 9, 9> M =
+      A.lazyProduct(covariance_.topLeftCorner<9, 9>()) + B.lazyProduct(covariance_.bottomLeftCorner<6, 9>());
+  const Eigen::Matrix<double, 9, 6> N =
+      A.lazyProduct(covariance_.topRightCorner<9, 6>()) + B.lazyProduct(covariance_.bottomRightCorner<6, 6>());
+  const Eigen::Matrix<double, 9, 9> P11 =
+      M.lazyProduct(A.transpose()) + N.lazyProduct(B.transpose()) + (G1 * q1.asDiagonal()).lazyProduct(G1.transpose());
+  covariance_.topLeftCorner<9, 9>() = 0.5 * (P11 + P11.transpose());
+  covariance_.topRightCorner<9, 6>() = N;
+  covariance_.bottomLeftCorner<6, 9>() = N.transpose();
+  covariance_.diagonal().tail<6>() += (Eigen::Matrix<double, 6, 1>() << bg2, bg2, bg2, ba2, ba2, ba2).finished();
+  const Eigen::Matrix<double, 9, 6> jac = A.lazyProduct(jac_bias_) + B;  // not in place: lazy products alias
+  jac_bias_ = jac;
 
   delta_p_ += delta_v_ * dt + 0.5 * acc * dt * dt;
   delta_v_ += acc * dt;

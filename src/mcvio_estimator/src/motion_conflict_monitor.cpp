@@ -52,6 +52,7 @@ MotionConflictMonitor::MotionConflictMonitor(const conflict::ConflictOptions& op
     : options_(options),
       rig_(rig),
       T_C1C0_(rig.T_BC1.inverse() * rig.T_BC0),
+      T_C0C1_(T_C1C0_.inverse()),
       imu_noise_(imu_noise),
       gravity_(gravity),
       min_depth_(min_depth_m),
@@ -110,46 +111,57 @@ ConflictIntervalSmoother::Result MotionConflictMonitor::smoothInterval(
 }
 
 bool MotionConflictMonitor::triangulate(const Eigen::Vector2d& n0, const Eigen::Vector2d& n1, double* depth) const {
-  const Eigen::Isometry3d T_C0C1 = T_C1C0_.inverse();
-  const Eigen::Vector3d b0(n0.x(), n0.y(), 1.0), b1(n1.x(), n1.y(), 1.0);
-  Eigen::Matrix<double, 3, 2> A;
-  A.col(0) = b0;
-  A.col(1) = -(T_C0C1.linear() * b1);
-  const Eigen::Vector2d d = A.colPivHouseholderQr().solve(T_C0C1.translation());
-  if (!(d[0] > min_depth_ && d[0] < max_depth_ && d[1] > 0)) return false;
-  const Eigen::Vector3d p_C1 = T_C1C0_ * (b0 * d[0]);
+  // Depths d0, d1 along the two rays with d0 b0 - d1 R b1 = t in the least-squares sense, from the
+  // 2x2 normal equations: a stereo pair's rays are never parallel enough to need a QR here.
+  const Eigen::Vector3d b0(n0.x(), n0.y(), 1.0);
+  const Eigen::Vector3d c1 = T_C0C1_.linear() * Eigen::Vector3d(n1.x(), n1.y(), 1.0);
+  const Eigen::Vector3d& t = T_C0C1_.translation();
+  const double a = b0.squaredNorm(), b = b0.dot(c1), c = c1.squaredNorm();
+  const double det = a * c - b * b;
+  if (!(det > 1e-12 * a * c)) return false;
+  const double u = b0.dot(t), v = c1.dot(t);
+  const double d0 = (c * u - b * v) / det, d1 = (b * u - a * v) / det;
+  if (!(d0 > min_depth_ && d0 < max_depth_ && d1 > 0)) return false;
+  const Eigen::Vector3d p_C1 = T_C1C0_ * (b0 * d0);
   if ((p_C1.head<2>() / p_C1.z() - n1).norm() * rig_.focal_px > 4.0 * options_.observation_sigma_px) return false;
-  *depth = d[0];
+  *depth = d0;
   return true;
 }
 
+void MotionConflictMonitor::triangulateAll(Entry* e) const {
+  e->depth.clear();
+  e->depth.reserve(e->cam0.size());
+  for (const auto& [id, n0] : e->cam0) {
+    const auto n1 = e->cam1.find(id);
+    double d = 0;
+    if (n1 != e->cam1.end() && triangulate(n0, n1->second, &d)) e->depth.emplace(id, d);
+  }
+}
+
 std::vector<conflict::TrackedPoint> MotionConflictMonitor::collectPoints(const Entry& r, const ObservationMap& cam0,
-                                                                         const ObservationMap& cam1) const {
+                                                                         const Entry& k) const {
   std::vector<conflict::TrackedPoint> pts;
   pts.reserve(cam0.size());
   const double fb = rig_.focal_px * rig_.baseline();
   const double s = options_.stereo_sigma_px;
   for (const auto& [id, n0_k] : cam0) {
-    const auto r0 = r.cam0.find(id);
-    if (r0 == r.cam0.end()) continue;
-    const auto r1 = r.cam1.find(id);
-    if (r1 == r.cam1.end()) continue;
-    double d = 0;
-    if (!triangulate(r0->second, r1->second, &d)) continue;
+    const auto dr = r.depth.find(id);
+    if (dr == r.depth.end()) continue;
+    const double d = dr->second;
+    const Eigen::Vector2d& n0_r = r.cam0.at(id);
     conflict::TrackedPoint p;
     p.track_id = id;
-    const Eigen::Vector3d b0(r0->second.x(), r0->second.y(), 1.0);
+    const Eigen::Vector3d b0(n0_r.x(), n0_r.y(), 1.0);
     p.X_r = rig_.T_BC0 * (b0 * d);
     p.depth_r = d;
     p.ray_r = rig_.T_BC0.linear() * b0.normalized();
     p.depth_sigma_r = d * d * s / fb;
     p.n0_k = n0_k;
-    const auto k1 = cam1.find(id);
-    double dk = 0;
-    if (k1 != cam1.end() && triangulate(n0_k, k1->second, &dk)) {
+    const auto dk = k.depth.find(id);
+    if (dk != k.depth.end()) {
       p.has_X_k = true;
-      p.X_k = rig_.T_BC0 * (Eigen::Vector3d(n0_k.x(), n0_k.y(), 1.0) * dk);
-      p.depth_sigma_k = dk * dk * s / fb;
+      p.X_k = rig_.T_BC0 * (Eigen::Vector3d(n0_k.x(), n0_k.y(), 1.0) * dk->second);
+      p.depth_sigma_k = dk->second * dk->second * s / fb;
     }
     pts.push_back(p);
   }
@@ -230,7 +242,7 @@ void MotionConflictMonitor::solveVisionIncrement(const Entry& prev, const ImuBuf
   conflict::RelativeMotion imu_prev;
   State ignored;
   if (!imuMotion(prev, cur->t, imu, &imu_prev, &ignored)) return;
-  const auto all = collectPoints(prev, cur->cam0, cur->cam1);
+  const auto all = collectPoints(prev, cur->cam0, *cur);
   std::vector<conflict::TrackedPoint> still;
   for (const auto& p : all)
     if (!classifier_.isMoving(p.track_id)) still.push_back(p);
@@ -256,6 +268,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   pending_.t = t;
   pending_.cam0 = cam0;
   pending_.cam1 = cam1;
+  triangulateAll(&pending_);
   have_pending_ = true;
 
   // Vision-only increment from the previous frame: the body's motion inside whatever it sees. Only
@@ -303,7 +316,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     conflict::RelativeMotion imu_rel;
     State propagated;
     if (imuMotion(r, t, imu, &imu_rel, &propagated)) {
-      const auto pts = collectPoints(r, cam0, cam1);
+      const auto pts = collectPoints(r, cam0, pending_);
       std::vector<conflict::TrackedPoint> still, moving;
       for (const auto& p : pts) (classifier_.isMoving(p.track_id) ? moving : still).push_back(p);
       const auto vis = pose_solver_.solve(still, imu_rel);

@@ -115,6 +115,9 @@ class MotionConflictMonitor {
   struct Entry {
     Timestamp t = 0;
     ObservationMap cam0, cam1;
+    /// Stereo depth in cam0 of the tracks both cameras saw and triangulate() accepted: each frame
+    /// is tested against two earlier ones and serves as the earlier one many times.
+    std::unordered_map<std::uint64_t, double> depth;
     State state;
     bool evidence = false;
     Eigen::Isometry3d vision_increment = Eigen::Isometry3d::Identity();  ///< body k -> body k-1, vision only
@@ -127,8 +130,11 @@ class MotionConflictMonitor {
   bool triangulate(const Eigen::Vector2d& n0, const Eigen::Vector2d& n1, double* depth) const;
   /// Tracks in view the estimate can use in a selective interval: not found moving, not on probation.
   int usableTracks(const ObservationMap& cam0) const;
+  /// Fills e.depth from e.cam0 and e.cam1.
+  void triangulateAll(Entry* e) const;
+  /// The tracks of frame k (cam0 and the depths of k) that r saw in stereo, as r -> k points.
   std::vector<conflict::TrackedPoint> collectPoints(const Entry& r, const ObservationMap& cam0,
-                                                    const ObservationMap& cam1) const;
+                                                    const Entry& k) const;
   /// IMU-predicted motion from r to t, integrated with the reference bias (see
   /// ConflictOptions::bias_reference_lag_frames); `propagated` is r's state moved to t.
   bool imuMotion(const Entry& r, Timestamp t, const ImuBuffer& imu, conflict::RelativeMotion* motion,
@@ -148,7 +154,7 @@ class MotionConflictMonitor {
 
   conflict::ConflictOptions options_;
   conflict::RigGeometry rig_;
-  Eigen::Isometry3d T_C1C0_;
+  Eigen::Isometry3d T_C1C0_, T_C0C1_;
   ImuNoiseParams imu_noise_;
   Eigen::Vector3d gravity_;
   double min_depth_, max_depth_;
