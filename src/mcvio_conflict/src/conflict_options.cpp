@@ -112,6 +112,14 @@ void ConflictOptions::validate() const {
           smoothing_reidentified_min_landmarks);
   require(smoothing_settled_velocity_sigma > 0, "smoothing_settled_velocity_sigma", "must be > 0",
           smoothing_settled_velocity_sigma);
+  require(smoothing_registration_radius_m >= 0 && smoothing_registration_radius_m <= 50,
+          "smoothing_registration_radius_m", "must be in [0, 50]", smoothing_registration_radius_m);
+  require(smoothing_registration_tolerance_m > 0 && smoothing_registration_tolerance_m <= 1,
+          "smoothing_registration_tolerance_m", "must be in (0, 1]", smoothing_registration_tolerance_m);
+  require(smoothing_registration_min_fraction > 0 && smoothing_registration_min_fraction <= 1,
+          "smoothing_registration_min_fraction", "must be in (0, 1]", smoothing_registration_min_fraction);
+  require(smoothing_registration_max_ambiguity > 0 && smoothing_registration_max_ambiguity < 1,
+          "smoothing_registration_max_ambiguity", "must be in (0, 1)", smoothing_registration_max_ambiguity);
   require(auto_split_fraction > 0 && auto_split_fraction <= 1, "auto_split_fraction", "must be in (0, 1]",
           auto_split_fraction);
   require(selective_strikes >= 1, "selective_strikes", "must be >= 1", selective_strikes);
@@ -218,6 +226,10 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("smoothing_held_acceleration_sigma", &o.smoothing_held_acceleration_sigma);
   read("smoothing_reidentified_min_landmarks", &o.smoothing_reidentified_min_landmarks);
   read("smoothing_settled_velocity_sigma", &o.smoothing_settled_velocity_sigma);
+  read("smoothing_registration_radius_m", &o.smoothing_registration_radius_m);
+  read("smoothing_registration_tolerance_m", &o.smoothing_registration_tolerance_m);
+  read("smoothing_registration_min_fraction", &o.smoothing_registration_min_fraction);
+  read("smoothing_registration_max_ambiguity", &o.smoothing_registration_max_ambiguity);
   for (const auto& kv : node) {
     const std::string key = kv.first.as<std::string>();
     if (known.count(key) == 0) throw InputError(context + ": unknown conflict option '" + key + "'");

@@ -560,6 +560,13 @@ TEST(ConflictOptions, YamlErrorsNameTheKey) {
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_reidentified_min_landmarks: -1")), InputError);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_settled_velocity_sigma: 0")), InputError);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_settled_velocity_sigma: .nan")), InputError);
+  EXPECT_DOUBLE_EQ(ConflictOptions::fromYaml(YAML::Load("smoothing_registration_radius_m: 0")).smoothing_registration_radius_m, 0.0);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_registration_radius_m: -1")), InputError);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_registration_radius_m: .nan")), InputError);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_registration_tolerance_m: 0")), InputError);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_registration_min_fraction: 1.5")), InputError);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_registration_max_ambiguity: 1")), InputError);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_registration_max_ambiguity: many")), InputError);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("frontend_labels_outside_min_count: 0")), InputError);
   EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("frontend_labels_outside_min_count: 3")).frontend_labels_outside_min_count, 3);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("frontend_labels_after_conflict_frames: -1")), InputError);

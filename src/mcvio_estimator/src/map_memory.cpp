@@ -25,6 +25,14 @@ const Eigen::Vector3d* MapMemory::find(std::uint64_t track_id, Timestamp not_aft
   return it != entries_.end() && it->second.t <= not_after ? &it->second.p : nullptr;
 }
 
+std::vector<Eigen::Vector3d> MapMemory::positionsUpTo(Timestamp not_after) const {
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(entries_.size());
+  for (const auto& [id, e] : entries_)
+    if (e.t <= not_after) out.push_back(e.p);
+  return out;
+}
+
 void MapMemory::shiftAfter(Timestamp t, const Eigen::Vector3d& shift) {
   for (auto& [id, e] : entries_)
     if (e.t > t) e.p += shift;

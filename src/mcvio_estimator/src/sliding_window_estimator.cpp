@@ -14,6 +14,7 @@
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/estimator/anchor_observation_factor.hpp"
 #include "mcvio/estimator/imu_factor.hpp"
+#include "mcvio/estimator/landmark_registration.hpp"
 #include "mcvio/estimator/marginalizer.hpp"
 #include "mcvio/estimator/model_agreement_stop.hpp"
 #include "mcvio/estimator/relative_rotation_factor.hpp"
@@ -1099,7 +1100,32 @@ bool SlidingWindowEstimator::reidentifiedEnd(const Eigen::Vector3d& p_end,
     Eigen::Vector3d now;
     if (before != nullptr && landmarkPointWorld(lm, &now)) pairs.emplace_back(now, *before);
   }
-  const MapMemory::Offset o = MapMemory::offsetOf(pairs, needed);
+  MapMemory::Offset o = MapMemory::offsetOf(pairs, needed);
+  const auto& c = options_.conflict;
+  if (!o.valid && c.smoothing_registration_radius_m > 0) {
+    // Too few came back with their old ids: find the map by the landmarks' positions.
+    std::vector<Eigen::Vector3d> current;
+    for (const auto& [track, lm] : landmarks_) {
+      Eigen::Vector3d now;
+      if (!monitor_->isEliminated(track) && landmarkPointWorld(lm, &now)) current.push_back(now);
+    }
+    LandmarkRegistration::Options ro;
+    ro.radius_m = c.smoothing_registration_radius_m;
+    ro.tolerance_m = c.smoothing_registration_tolerance_m;
+    ro.min_points = needed;
+    ro.min_fraction = c.smoothing_registration_min_fraction;
+    ro.max_ambiguity = c.smoothing_registration_max_ambiguity;
+    const auto t_start = Clock::now();
+    const auto remembered = map_memory_.positionsUpTo(opened);
+    const auto r = LandmarkRegistration(ro).align(current, remembered);
+    spdlog::info("{}map registration: {} of {} landmarks agree on an offset of ({:.3f}, {:.3f}, {:.3f}) m against the "
+                 "{} remembered (sharpness {:.1f}, the best distinct offset {:.1f}; {:.1f} ms): {}",
+                 kLog, r.support, current.size(), r.offset.x(), r.offset.y(), r.offset.z(), remembered.size(),
+                 r.sharpness, r.runner_up_sharpness, msSince(t_start), r.valid ? "used" : "not used");
+    if (!r.valid) return false;
+    o = MapMemory::offsetOf(r.pairs, needed);
+    if (!o.valid) return false;
+  }
   if (!o.valid) return false;
   // The window drifted by o.offset against the map: the body did too.
   end->p = p_end - o.offset;

@@ -373,7 +373,11 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_EQ(c.exit_velocity_frames_after_hold, dc.exit_velocity_frames_after_hold);
   EXPECT_EQ(c.smoothing_reidentified_min_landmarks, dc.smoothing_reidentified_min_landmarks);
   EXPECT_DOUBLE_EQ(c.smoothing_settled_velocity_sigma, dc.smoothing_settled_velocity_sigma);
-  EXPECT_EQ(root["conflict"].size(), 72u) << "every conflict option appears once";
+  EXPECT_DOUBLE_EQ(c.smoothing_registration_radius_m, dc.smoothing_registration_radius_m);
+  EXPECT_DOUBLE_EQ(c.smoothing_registration_tolerance_m, dc.smoothing_registration_tolerance_m);
+  EXPECT_DOUBLE_EQ(c.smoothing_registration_min_fraction, dc.smoothing_registration_min_fraction);
+  EXPECT_DOUBLE_EQ(c.smoothing_registration_max_ambiguity, dc.smoothing_registration_max_ambiguity);
+  EXPECT_EQ(root["conflict"].size(), 76u) << "every conflict option appears once";
 }
 
 }  // namespace

@@ -296,6 +296,19 @@ struct ConflictOptions {
   /// smoothing_settled_velocity_sigma [m/s per axis].
   int smoothing_reidentified_min_landmarks = 8;
   double smoothing_settled_velocity_sigma = 0.02;
+  /// Re-acquiring the map without the frontend's help: when too few landmarks came back with
+  /// their old ids (a KLT frontend gives a corner seen again a new one), the window's landmarks
+  /// are registered against those remembered before the interval by position alone
+  /// (mcvio::estimator::LandmarkRegistration): the offset that most of them agree on, within
+  /// this radius of where the IMU put them [m] (0: never).
+  double smoothing_registration_radius_m = 5.0;
+  /// How far a landmark may lie from the offset and still agree [m]: their stereo depth noise.
+  double smoothing_registration_tolerance_m = 0.08;
+  /// Share of the window's landmarks that must agree (at least smoothing_reidentified_min_landmarks).
+  double smoothing_registration_min_fraction = 0.4;
+  /// A distinct offset (25 cm or 3 tolerances away) agreed with this sharply, relative to the
+  /// best, makes the registration ambiguous (a repeated texture), and it is not used.
+  double smoothing_registration_max_ambiguity = 0.6;
 
   void validate() const;
   static ConflictOptions fromYaml(const YAML::Node& node, const std::string& context = "conflict options");
