@@ -25,11 +25,20 @@ const Eigen::Vector3d* MapMemory::find(std::uint64_t track_id, Timestamp not_aft
   return it != entries_.end() && it->second.t <= not_after ? &it->second.p : nullptr;
 }
 
-std::vector<Eigen::Vector3d> MapMemory::positionsUpTo(Timestamp not_after) const {
-  std::vector<Eigen::Vector3d> out;
-  out.reserve(entries_.size());
+std::vector<Eigen::Vector3d> MapMemory::positionsUpTo(Timestamp not_after, std::size_t max_count) const {
+  std::vector<std::pair<std::pair<Timestamp, std::uint64_t>, const Eigen::Vector3d*>> found;
+  found.reserve(entries_.size());
   for (const auto& [id, e] : entries_)
-    if (e.t <= not_after) out.push_back(e.p);
+    if (e.t <= not_after) found.push_back({{e.t, id}, &e.p});
+  const auto later = [](const auto& a, const auto& b) { return a.first > b.first; };
+  if (found.size() > max_count) {
+    std::nth_element(found.begin(), found.begin() + static_cast<std::ptrdiff_t>(max_count), found.end(), later);
+    found.resize(max_count);
+  }
+  std::sort(found.begin(), found.end(), later);
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(found.size());
+  for (const auto& f : found) out.push_back(*f.second);
   return out;
 }
 

@@ -1116,7 +1116,10 @@ bool SlidingWindowEstimator::reidentifiedEnd(const Eigen::Vector3d& p_end,
     ro.min_fraction = c.smoothing_registration_min_fraction;
     ro.max_ambiguity = c.smoothing_registration_max_ambiguity;
     const auto t_start = Clock::now();
-    const auto remembered = map_memory_.positionsUpTo(opened);
+    // The latest remembered are where the interval began; a long run's whole map would only
+    // cost time (every pair within the radius votes).
+    constexpr std::size_t kMaxRemembered = 4000;
+    const auto remembered = map_memory_.positionsUpTo(opened, kMaxRemembered);
     const auto r = LandmarkRegistration(ro).align(current, remembered);
     spdlog::info("{}map registration: {} of {} landmarks agree on an offset of ({:.3f}, {:.3f}, {:.3f}) m against the "
                  "{} remembered (sharpness {:.1f}, the best distinct offset {:.1f}; {:.1f} ms): {}",

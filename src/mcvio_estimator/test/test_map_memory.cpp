@@ -89,3 +89,18 @@ TEST(MapMemory, TooFewOrDisagreeingPairsGiveNoOffset) {
     pairs.emplace_back(Eigen::Vector3d(i, i % 2 == 0 ? 3.0 * i : -3.0 * i, 0), Eigen::Vector3d(i, 0, 0));
   EXPECT_FALSE(MapMemory::offsetOf(pairs, 5).valid);
 }
+
+TEST(MapMemory, GivesTheLatestPositionsRememberedBeforeATime) {
+  MapMemory m;
+  for (std::uint64_t id = 1; id <= 5; ++id)
+    m.remember(id, Eigen::Vector3d(static_cast<double>(id), 0, 0), fromSeconds(static_cast<double>(id)));
+  const auto upto3 = m.positionsUpTo(fromSeconds(3.0), 10);
+  ASSERT_EQ(upto3.size(), 3u);
+  EXPECT_EQ(upto3[0], Eigen::Vector3d(3, 0, 0)) << "latest first";
+  EXPECT_EQ(upto3[2], Eigen::Vector3d(1, 0, 0));
+  const auto latest2 = m.positionsUpTo(fromSeconds(10.0), 2);
+  ASSERT_EQ(latest2.size(), 2u);
+  EXPECT_EQ(latest2[0], Eigen::Vector3d(5, 0, 0));
+  EXPECT_EQ(latest2[1], Eigen::Vector3d(4, 0, 0));
+  EXPECT_TRUE(m.positionsUpTo(fromSeconds(0.5), 10).empty());
+}

@@ -32,8 +32,9 @@ class MapMemory {
   void remember(std::uint64_t track_id, const Eigen::Vector3d& p_W, Timestamp t);
   /// The remembered position of track_id if it was remembered at or before `not_after`.
   const Eigen::Vector3d* find(std::uint64_t track_id, Timestamp not_after) const;
-  /// Positions of the landmarks remembered at or before `not_after`.
-  std::vector<Eigen::Vector3d> positionsUpTo(Timestamp not_after) const;
+  /// Positions of the landmarks remembered at or before `not_after`, the latest `max_count` of
+  /// them (by time, then track id).
+  std::vector<Eigen::Vector3d> positionsUpTo(Timestamp not_after, std::size_t max_count) const;
   /// Moves every landmark remembered after t by `shift` (the window they were seen in moved).
   void shiftAfter(Timestamp t, const Eigen::Vector3d& shift);
   void clear();
