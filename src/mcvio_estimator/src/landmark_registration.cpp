@@ -158,21 +158,25 @@ LandmarkRegistration::Result LandmarkRegistration::align(const std::vector<Eigen
   // A distinct offset: one a repeated texture would give lies a period away; closer than this
   // it is the same offset's spread.
   const double distinct = std::max(3.0 * tol, 0.25);
-  CellKey second{0, 0, 0};
-  Eigen::Vector3d runner_up = Eigen::Vector3d::Zero();
   CellKey best{0, 0, 0};
   bestCell(Eigen::Vector3d::Zero(), 0.0, &best);
   Eigen::Vector3d offset = centreOf(best);
-  if (bestCell(offset, distinct, &second)) {
-    runner_up = centreOf(second);
-    res.runner_up = refine(&runner_up);
-    res.runner_up_sharpness = sharpness(runner_up);
-  }
   res.support = refine(&offset);
   res.sharpness = sharpness(offset);
   res.offset = offset;
   for (std::size_t i = 0; i < current.size(); ++i)
     if (chosen[i] >= 0) res.pairs.emplace_back(current[i], current[i] - candidates[i][static_cast<std::size_t>(chosen[i])]);
+  // The best cell away from it, refined the same way; one that drifts back into the best offset
+  // was its tail.
+  CellKey second{0, 0, 0};
+  if (bestCell(offset, distinct, &second)) {
+    Eigen::Vector3d runner_up = centreOf(second);
+    const int agree = refine(&runner_up);
+    if ((runner_up - offset).norm() > distinct) {
+      res.runner_up = agree;
+      res.runner_up_sharpness = sharpness(runner_up);
+    }
+  }
   const double needed = std::max(static_cast<double>(options_.min_points), options_.min_fraction * static_cast<double>(current.size()));
   res.valid = static_cast<double>(res.support) >= needed &&
               res.runner_up_sharpness <= options_.max_ambiguity * res.sharpness;
