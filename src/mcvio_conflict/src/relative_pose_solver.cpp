@@ -20,7 +20,7 @@ RelativePoseSolver::Result RelativePoseSolver::solve(const std::vector<TrackedPo
   Eigen::Vector3d t = initial.t;
 
   // Point p in cam0 of k under (R, t), with Rt = R^T and R_CB_Rt = R_CB R^T: its pixel residual
-  // r, the whitening of r (W = I - beta a a^T) and, if J is given, d r / d [dtheta, dt]; false
+  // r, the whitening of r (W = I - beta a a^T) and, with `jacobian`, J = d r / d [dtheta, dt]; false
   // behind the camera. The weight is relative to pixel noise alone: sigma^2 (sigma^2 I + a a^T)^-1,
   // a = the pixel shift of one depth sigma at r (Sherman-Morrison); beta = 0 without depth
   // uncertainty.

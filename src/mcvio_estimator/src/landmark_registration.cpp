@@ -14,6 +14,7 @@ namespace {
 struct CellKey {
   std::int64_t x, y, z;
   bool operator==(const CellKey& o) const { return x == o.x && y == o.y && z == o.z; }
+  bool operator<(const CellKey& o) const { return std::make_tuple(x, y, z) < std::make_tuple(o.x, o.y, o.z); }
 };
 struct CellHash {
   std::size_t operator()(const CellKey& k) const {
@@ -58,10 +59,7 @@ LandmarkRegistration::Result LandmarkRegistration::align(const std::vector<Eigen
             voted.push_back(cellOf(d, tol));
           }
         }
-    const auto order = [](const CellKey& a, const CellKey& b) {
-      return std::make_tuple(a.x, a.y, a.z) < std::make_tuple(b.x, b.y, b.z);
-    };
-    std::sort(voted.begin(), voted.end(), order);
+    std::sort(voted.begin(), voted.end());
     voted.erase(std::unique(voted.begin(), voted.end()), voted.end());
     for (const CellKey& v : voted) ++votes[v];
   }
@@ -77,11 +75,9 @@ LandmarkRegistration::Result LandmarkRegistration::align(const std::vector<Eigen
         }
     return s;
   };
-  auto centreOf = [tol](const CellKey& k) {
-    return ((Eigen::Vector3d(static_cast<double>(k.x), static_cast<double>(k.y), static_cast<double>(k.z)) +
-             Eigen::Vector3d::Constant(0.5)) *
-            tol)
-        .eval();
+  auto centreOf = [tol](const CellKey& k) -> Eigen::Vector3d {
+    const Eigen::Vector3d index(static_cast<double>(k.x), static_cast<double>(k.y), static_cast<double>(k.z));
+    return (index + Eigen::Vector3d::Constant(0.5)) * tol;
   };
   // Only the most voted cells can hold an offset most points agree on; scoring every cell's
   // neighbourhood would cost more than the rest together.
@@ -90,9 +86,7 @@ LandmarkRegistration::Result LandmarkRegistration::align(const std::vector<Eigen
   top.reserve(votes.size());
   for (const auto& [k, n] : votes) top.emplace_back(n, k);
   const auto more_votes = [](const std::pair<int, CellKey>& a, const std::pair<int, CellKey>& b) {
-    return a.first != b.first ? a.first > b.first
-                              : std::make_tuple(a.second.x, a.second.y, a.second.z) <
-                                    std::make_tuple(b.second.x, b.second.y, b.second.z);
+    return a.first != b.first ? a.first > b.first : a.second < b.second;
   };
   if (top.size() > kTopCells) {
     std::nth_element(top.begin(), top.begin() + kTopCells, top.end(), more_votes);

@@ -1095,20 +1095,17 @@ bool SlidingWindowEstimator::reidentifiedEnd(const Eigen::Vector3d& p_end,
   if (needed <= 0 || map_memory_.size() == 0) return false;
   const Timestamp opened = monitor_->smoothingStartTime();
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> pairs;
+  std::vector<Eigen::Vector3d> current;  // for a registration by position, if the ids do not do
   for (const auto& [track, lm] : landmarks_) {
-    const Eigen::Vector3d* before = map_memory_.find(track, opened);
     Eigen::Vector3d now;
-    if (before != nullptr && landmarkPointWorld(lm, &now)) pairs.emplace_back(now, *before);
+    if (!landmarkPointWorld(lm, &now)) continue;
+    if (const Eigen::Vector3d* before = map_memory_.find(track, opened)) pairs.emplace_back(now, *before);
+    if (!monitor_->isEliminated(track)) current.push_back(now);
   }
   MapMemory::Offset o = MapMemory::offsetOf(pairs, needed);
   const auto& c = options_.conflict;
   if (!o.valid && c.smoothing_registration_radius_m > 0) {
     // Too few came back with their old ids: find the map by the landmarks' positions.
-    std::vector<Eigen::Vector3d> current;
-    for (const auto& [track, lm] : landmarks_) {
-      Eigen::Vector3d now;
-      if (!monitor_->isEliminated(track) && landmarkPointWorld(lm, &now)) current.push_back(now);
-    }
     LandmarkRegistration::Options ro;
     ro.radius_m = c.smoothing_registration_radius_m;
     ro.tolerance_m = c.smoothing_registration_tolerance_m;
@@ -1125,9 +1122,7 @@ bool SlidingWindowEstimator::reidentifiedEnd(const Eigen::Vector3d& p_end,
                  "{} remembered (sharpness {:.1f}, the best distinct offset {:.1f}; {:.1f} ms): {}",
                  kLog, r.support, current.size(), r.offset.x(), r.offset.y(), r.offset.z(), remembered.size(),
                  r.sharpness, r.runner_up_sharpness, msSince(t_start), r.valid ? "used" : "not used");
-    if (!r.valid) return false;
-    o = MapMemory::offsetOf(r.pairs, needed);
-    if (!o.valid) return false;
+    if (r.valid) o = MapMemory::offsetOf(r.pairs, needed);
   }
   if (!o.valid) return false;
   // The window drifted by o.offset against the map: the body did too.
