@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <sstream>
 #include <unistd.h>
 
 #include "clean_sequences.hpp"
@@ -26,13 +28,14 @@ constexpr double kMaxConflictFraction = 0.02;
 
 pipeline::sequences::RunAccuracy runAndEvaluate(const sim::Simulator& simulator, const std::string& name,
                                                 pipeline::OfflineRunSummary* summary, std::size_t* conflict_frames,
-                                                const std::string& mode = "") {
+                                                const std::string& mode = "",
+                                                const std::string& config_file = MCVIO_PIPELINE_CONFIG) {
   const std::string out = ::testing::TempDir() + "/accuracy_" + name + "_" + std::to_string(getpid());
   pipeline::OfflineRunOptions o;
   o.dataset_dir = name;
   o.output_dir = out;
   o.progress = false;
-  o.config_file = MCVIO_PIPELINE_CONFIG;  // the shipped, measured configuration
+  o.config_file = config_file;  // by default the shipped, measured configuration
   o.mode = mode;
   CovarianceLog covariances;
   *conflict_frames = 0;
@@ -123,4 +126,43 @@ TEST(OfflineAccuracy, RenderedSlowObjectFoundByTheRegionSplitStaysSelective) {
   EXPECT_GT(ref.ate_pos_yaw_rmse, 0.2);
   EXPECT_LT(aut.ate_pos_yaw_rmse, 0.2 * ref.ate_pos_yaw_rmse);
   EXPECT_GT(conflict_auto, 100u);  // 197 labelled frames
+}
+
+// A carried object covering the whole view for 4 s (`mcvio sim --scenario self_occlusion
+// --duration 32 --onset 24 --scenario-duration 4 --coverage 1.0 --seed 1`): auto goes
+// IMU-dominated, and the KLT frontend gives every corner it finds again a new track id. The
+// conflict window registers the window's landmarks against the map remembered before the interval
+// by position, and the end position they give takes out the drift of 4 s on the IMU alone
+// (measured: ATE 0.0372 m without the registration, 0.0145 m with it).
+TEST(OfflineAccuracy, RenderedFullOcclusionFindsTheMapAgainByPosition) {
+  sim::SimulatorOptions so;
+  so.seed = 1;
+  so.duration_s = 32.0;
+  so.overwrite = true;
+  so.scenario.kind = sim::ScenarioKind::kSelfOcclusion;
+  so.scenario.onset_s = 24.0;
+  so.scenario.duration_s = 4.0;
+  so.scenario.coverage = 1.0;
+  const sim::Simulator simulator(so);
+  // The shipped configuration with the registration off.
+  std::ifstream shipped(MCVIO_PIPELINE_CONFIG);
+  ASSERT_TRUE(shipped.good()) << MCVIO_PIPELINE_CONFIG;
+  std::stringstream text;
+  text << shipped.rdbuf();
+  std::string yaml = text.str();
+  const std::string section = "\n  conflict:\n";
+  const auto at = yaml.find(section);
+  ASSERT_NE(at, std::string::npos) << MCVIO_PIPELINE_CONFIG << ": no estimator.conflict section";
+  yaml.insert(at + section.size(), "    smoothing_registration_radius_m: 0\n");
+  const std::string without = ::testing::TempDir() + "/no_registration_" + std::to_string(getpid()) + ".yaml";
+  std::ofstream(without) << yaml;
+  pipeline::OfflineRunSummary s_off, s_on;
+  std::size_t conflict_off = 0, conflict_on = 0;
+  const auto off = runAndEvaluate(simulator, "rendered_full_occlusion_off", &s_off, &conflict_off, "auto", without);
+  const auto on = runAndEvaluate(simulator, "rendered_full_occlusion_on", &s_on, &conflict_on, "auto");
+  std::filesystem::remove(without);
+  EXPECT_EQ(s_on.resets, 0u);
+  EXPECT_GT(conflict_on, 60u);  // 80 labelled frames
+  EXPECT_LT(on.ate_pos_yaw_rmse, 0.025);
+  EXPECT_LT(on.ate_pos_yaw_rmse, 0.6 * off.ate_pos_yaw_rmse);
 }
