@@ -116,6 +116,9 @@ void ConflictOptions::validate() const {
           "smoothing_registration_radius_m", "must be in [0, 50]", smoothing_registration_radius_m);
   require(smoothing_registration_tolerance_m > 0 && smoothing_registration_tolerance_m <= 1,
           "smoothing_registration_tolerance_m", "must be in (0, 1]", smoothing_registration_tolerance_m);
+  require(smoothing_registration_radius_m <= 2000.0 * smoothing_registration_tolerance_m,
+          "smoothing_registration_tolerance_m", "must be at least smoothing_registration_radius_m / 2000",
+          smoothing_registration_tolerance_m);
   require(smoothing_registration_min_fraction > 0 && smoothing_registration_min_fraction <= 1,
           "smoothing_registration_min_fraction", "must be in (0, 1]", smoothing_registration_min_fraction);
   require(smoothing_registration_max_ambiguity > 0 && smoothing_registration_max_ambiguity < 1,

@@ -564,6 +564,8 @@ TEST(ConflictOptions, YamlErrorsNameTheKey) {
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_registration_radius_m: -1")), InputError);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_registration_radius_m: .nan")), InputError);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_registration_tolerance_m: 0")), InputError);
+  // 5 m in cells of 1 mm: more offset cells than the registration numbers.
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_registration_tolerance_m: 0.001")), InputError);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_registration_min_fraction: 1.5")), InputError);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_registration_max_ambiguity: 1")), InputError);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("smoothing_registration_max_ambiguity: many")), InputError);

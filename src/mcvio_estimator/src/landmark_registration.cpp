@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <tuple>
 #include <unordered_map>
 
 namespace mcvio::estimator {
@@ -14,16 +13,39 @@ namespace {
 struct CellKey {
   std::int64_t x, y, z;
   bool operator==(const CellKey& o) const { return x == o.x && y == o.y && z == o.z; }
-  bool operator<(const CellKey& o) const { return std::make_tuple(x, y, z) < std::make_tuple(o.x, o.y, o.z); }
 };
 struct CellHash {
   std::size_t operator()(const CellKey& k) const {
     return static_cast<std::size_t>(k.x * 73856093LL ^ k.y * 19349663LL ^ k.z * 83492791LL);
   }
 };
+// Radius over tolerance at most this: an offset cell and a point are numbered within one word.
+constexpr double kMaxCellsPerRadius = 2000.0;
+
 CellKey cellOf(const Eigen::Vector3d& p, double size) {
   return {static_cast<std::int64_t>(std::floor(p.x() / size)), static_cast<std::int64_t>(std::floor(p.y() / size)),
           static_cast<std::int64_t>(std::floor(p.z() / size))};
+}
+
+// Bits needed to write n (0 for 0).
+int bitWidth(std::uint64_t n) {
+  int bits = 0;
+  for (; n != 0; n >>= 1) ++bits;
+  return bits;
+}
+
+// LSD radix sort of words below 2^bits: a few passes over the ballots instead of a comparison sort.
+void radixSort(std::vector<std::uint64_t>* words, int bits) {
+  constexpr int kDigit = 11;
+  constexpr std::uint64_t kMask = (std::uint64_t{1} << kDigit) - 1;
+  std::vector<std::uint64_t> sorted(words->size());
+  for (int shift = 0; shift < bits; shift += kDigit) {
+    std::vector<std::size_t> start(kMask + 2, 0);
+    for (const std::uint64_t w : *words) ++start[((w >> shift) & kMask) + 1];
+    for (std::size_t d = 0; d <= kMask; ++d) start[d + 1] += start[d];
+    for (const std::uint64_t w : *words) sorted[start[(w >> shift) & kMask]++] = w;
+    words->swap(sorted);
+  }
 }
 
 }  // namespace
@@ -32,21 +54,36 @@ LandmarkRegistration::Result LandmarkRegistration::align(const std::vector<Eigen
                                                          const std::vector<Eigen::Vector3d>& remembered) const {
   Result res;
   const double R = options_.radius_m, tol = options_.tolerance_m;
-  if (current.empty() || remembered.empty() || !(R > 0) || !(tol > 0)) return res;
+  if (current.empty() || remembered.empty() || !(R > 0) || !(tol > 0) || R / tol > kMaxCellsPerRadius) return res;
+  // An offset's tolerance cell as one number, ordered as the (x, y, z) triples are: offsets lie
+  // within the radius, so each index is within [-K, K].
+  const std::int64_t K = static_cast<std::int64_t>(std::ceil(R / tol)) + 1, W = 2 * K + 1;
+  const int cell_bits = bitWidth(static_cast<std::uint64_t>(W * W * W - 1));
+  const int point_bits = bitWidth(static_cast<std::uint64_t>(current.size() - 1));
+  if (cell_bits + point_bits > 63) return res;
+  const auto cellNumber = [K, W](const CellKey& k) {
+    return static_cast<std::uint64_t>(((k.x + K) * W + (k.y + K)) * W + (k.z + K));
+  };
+  const auto cellOfNumber = [K, W](std::uint64_t n) {
+    const auto v = static_cast<std::int64_t>(n);
+    return CellKey{v / (W * W) - K, (v / W) % W - K, v % W - K};
+  };
   // Remembered points on a grid of the search radius: a current point's candidates are in the
   // 27 cells around it.
   std::unordered_map<CellKey, std::vector<int>, CellHash> grid;
   for (std::size_t j = 0; j < remembered.size(); ++j)
     if (remembered[j].allFinite()) grid[cellOf(remembered[j], R)].push_back(static_cast<int>(j));
-  // Candidate offsets per current point, and one vote per current point and offset cell (a
-  // point near many remembered ones must not outvote the others).
-  std::vector<std::vector<Eigen::Vector3d>> candidates(current.size());
-  std::unordered_map<CellKey, int, CellHash> votes;
+  // Candidate offsets of point i: candidates[first[i] .. first[i + 1]), and a ballot (cell, i),
+  // one word, for each. Each point votes once per cell (a point near many remembered ones must not outvote
+  // the others): sorted, a cell's votes are its distinct ballots.
+  std::vector<Eigen::Vector3d> candidates;
+  std::vector<std::size_t> first(current.size() + 1, 0);
+  std::vector<std::uint64_t> ballots;
   for (std::size_t i = 0; i < current.size(); ++i) {
+    first[i] = candidates.size();
     const Eigen::Vector3d& c = current[i];
     if (!c.allFinite()) continue;
     const CellKey k = cellOf(c, R);
-    std::vector<CellKey> voted;
     for (std::int64_t dx = -1; dx <= 1; ++dx)
       for (std::int64_t dy = -1; dy <= 1; ++dy)
         for (std::int64_t dz = -1; dz <= 1; ++dz) {
@@ -55,24 +92,35 @@ LandmarkRegistration::Result LandmarkRegistration::align(const std::vector<Eigen
           for (const int j : it->second) {
             const Eigen::Vector3d d = c - remembered[static_cast<std::size_t>(j)];
             if (d.norm() > R) continue;
-            candidates[i].push_back(d);
-            voted.push_back(cellOf(d, tol));
+            candidates.push_back(d);
+            ballots.push_back((cellNumber(cellOf(d, tol)) << point_bits) | i);
           }
         }
-    std::sort(voted.begin(), voted.end());
-    voted.erase(std::unique(voted.begin(), voted.end()), voted.end());
-    for (const CellKey& v : voted) ++votes[v];
+  }
+  first[current.size()] = candidates.size();
+  radixSort(&ballots, cell_bits + point_bits);
+  // (cell, votes) in cell order.
+  std::vector<std::pair<std::uint64_t, int>> votes;
+  for (std::size_t b = 0; b < ballots.size();) {
+    const std::uint64_t cell = ballots[b] >> point_bits;
+    int n = 0;
+    for (; b < ballots.size() && (ballots[b] >> point_bits) == cell; ++b)
+      if (b == 0 || ballots[b] != ballots[b - 1]) ++n;
+    votes.emplace_back(cell, n);
   }
   if (votes.empty()) return res;
   // An offset near a cell border splits its votes: score each cell with its 26 neighbours.
-  auto score = [&votes](const CellKey& k) {
+  auto votesAt = [&votes, &cellNumber](const CellKey& k) {
+    const std::uint64_t w = cellNumber(k);
+    const auto it = std::lower_bound(votes.begin(), votes.end(), w,
+                                     [](const std::pair<std::uint64_t, int>& v, std::uint64_t key) { return v.first < key; });
+    return it != votes.end() && it->first == w ? it->second : 0;
+  };
+  auto score = [&votesAt](const CellKey& k) {
     int s = 0;
     for (std::int64_t dx = -1; dx <= 1; ++dx)
       for (std::int64_t dy = -1; dy <= 1; ++dy)
-        for (std::int64_t dz = -1; dz <= 1; ++dz) {
-          const auto it = votes.find({k.x + dx, k.y + dy, k.z + dz});
-          if (it != votes.end()) s += it->second;
-        }
+        for (std::int64_t dz = -1; dz <= 1; ++dz) s += votesAt({k.x + dx, k.y + dy, k.z + dz});
     return s;
   };
   auto centreOf = [tol](const CellKey& k) -> Eigen::Vector3d {
@@ -82,20 +130,25 @@ LandmarkRegistration::Result LandmarkRegistration::align(const std::vector<Eigen
   // Only the most voted cells can hold an offset most points agree on; scoring every cell's
   // neighbourhood would cost more than the rest together.
   constexpr std::size_t kTopCells = 256;
-  std::vector<std::pair<int, CellKey>> top;
-  top.reserve(votes.size());
-  for (const auto& [k, n] : votes) top.emplace_back(n, k);
-  const auto more_votes = [](const std::pair<int, CellKey>& a, const std::pair<int, CellKey>& b) {
+  std::vector<std::pair<int, std::uint64_t>> most;
+  most.reserve(votes.size());
+  for (const auto& [w, n] : votes) most.emplace_back(n, w);
+  const auto more_votes = [](const std::pair<int, std::uint64_t>& a, const std::pair<int, std::uint64_t>& b) {
     return a.first != b.first ? a.first > b.first : a.second < b.second;
   };
-  if (top.size() > kTopCells) {
-    std::nth_element(top.begin(), top.begin() + kTopCells, top.end(), more_votes);
-    top.resize(kTopCells);
+  if (most.size() > kTopCells) {
+    std::nth_element(most.begin(), most.begin() + kTopCells, most.end(), more_votes);
+    most.resize(kTopCells);
   }
-  std::sort(top.begin(), top.end(), more_votes);  // the answer does not depend on the hash map's order
+  std::sort(most.begin(), most.end(), more_votes);
+  std::vector<std::pair<int, CellKey>> top;
   std::vector<int> scores;
-  scores.reserve(top.size());
-  for (const auto& [n, k] : top) scores.push_back(score(k));
+  top.reserve(most.size());
+  scores.reserve(most.size());
+  for (const auto& [n, w] : most) {
+    top.emplace_back(n, cellOfNumber(w));
+    scores.push_back(score(top.back().second));
+  }
   // The best-scoring of those cells further than `exclude` from `away` (ties: the most voted).
   auto bestCell = [&](const Eigen::Vector3d& away, double exclude, CellKey* out) {
     int best_score = -1;
@@ -119,15 +172,15 @@ LandmarkRegistration::Result LandmarkRegistration::align(const std::vector<Eigen
       for (std::size_t i = 0; i < current.size(); ++i) {
         chosen[i] = -1;
         double closest = 2.0 * tol;
-        for (std::size_t c = 0; c < candidates[i].size(); ++c) {
-          const double e = (candidates[i][c] - *offset).norm();
+        for (std::size_t c = first[i]; c < first[i + 1]; ++c) {
+          const double e = (candidates[c] - *offset).norm();
           if (e < closest) {
             closest = e;
             chosen[i] = static_cast<int>(c);
           }
         }
         if (chosen[i] >= 0) {
-          sum += candidates[i][static_cast<std::size_t>(chosen[i])];
+          sum += candidates[static_cast<std::size_t>(chosen[i])];
           ++n;
         }
       }
@@ -144,7 +197,7 @@ LandmarkRegistration::Result LandmarkRegistration::align(const std::vector<Eigen
     double sum = 0;
     for (std::size_t i = 0; i < current.size(); ++i) {
       double closest = std::numeric_limits<double>::infinity();
-      for (const auto& d : candidates[i]) closest = std::min(closest, (d - offset).squaredNorm());
+      for (std::size_t c = first[i]; c < first[i + 1]; ++c) closest = std::min(closest, (candidates[c] - offset).squaredNorm());
       if (std::isfinite(closest)) sum += std::exp(-closest / s2);
     }
     return sum;
@@ -159,7 +212,7 @@ LandmarkRegistration::Result LandmarkRegistration::align(const std::vector<Eigen
   res.sharpness = sharpness(offset);
   res.offset = offset;
   for (std::size_t i = 0; i < current.size(); ++i)
-    if (chosen[i] >= 0) res.pairs.emplace_back(current[i], current[i] - candidates[i][static_cast<std::size_t>(chosen[i])]);
+    if (chosen[i] >= 0) res.pairs.emplace_back(current[i], current[i] - candidates[static_cast<std::size_t>(chosen[i])]);
   // The best cell away from it, refined the same way; one that drifts back into the best offset
   // was its tail.
   CellKey second{0, 0, 0};

@@ -129,4 +129,23 @@ TEST(LandmarkRegistration, EmptyOrNonFiniteInputGivesNoAnswer) {
   std::mt19937 rng(8);
   const auto map = room(500, &rng);
   EXPECT_FALSE(LandmarkRegistration(off).align(map, map).valid);
+  LandmarkRegistration::Options fine;
+  fine.tolerance_m = 0.001;  // 5000 cells a radius: more than the offset cells are numbered by
+  EXPECT_FALSE(LandmarkRegistration(fine).align(map, map).valid);
+}
+
+// Fine cells near the limit (1000 a radius) number a few billion offset cells: the votes still
+// count right.
+TEST(LandmarkRegistration, FindsTheDriftWithFineCells) {
+  std::mt19937 rng(9);
+  const auto map = room(800, &rng);
+  const Eigen::Vector3d drift(0.31, -0.42, 0.05);
+  const auto cur = window(map, 120, drift, 0.0005, 0, &rng);
+  LandmarkRegistration::Options o;
+  o.radius_m = 2.0;
+  o.tolerance_m = 0.002;
+  const auto r = LandmarkRegistration(o).align(cur, map);
+  ASSERT_TRUE(r.valid) << "support " << r.support;
+  EXPECT_GE(r.support, 110);
+  EXPECT_LT((r.offset - drift).norm(), 0.002);
 }

@@ -303,6 +303,7 @@ struct ConflictOptions {
   /// this radius of where the IMU put them [m] (0: never).
   double smoothing_registration_radius_m = 5.0;
   /// How far a landmark may lie from the offset and still agree [m]: their stereo depth noise.
+  /// At least smoothing_registration_radius_m / 2000.
   double smoothing_registration_tolerance_m = 0.08;
   /// Share of the window's landmarks that must agree (at least smoothing_reidentified_min_landmarks).
   double smoothing_registration_min_fraction = 0.4;

@@ -20,7 +20,9 @@ class LandmarkRegistration {
  public:
   struct Options {
     double radius_m = 5.0;     ///< largest drift searched for
-    double tolerance_m = 0.08;  ///< how far a pair may lie from the offset and still agree
+    /// How far a pair may lie from the offset and still agree; at least radius_m / 2000 (no
+    /// answer otherwise: the offset cells are numbered within one word).
+    double tolerance_m = 0.08;
     int min_points = 12;       ///< agreeing current points needed
     /// ... and at least this fraction of the current points (a floor: on the feature-level
     /// self-occlusions 62-70 % agree with the drift, 40-50 % with the best chance offset).
