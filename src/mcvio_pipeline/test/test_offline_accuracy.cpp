@@ -4,6 +4,7 @@
 // while the run consumes them (no files), so the decoding stage is the renderer.
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -54,6 +55,20 @@ pipeline::sequences::RunAccuracy runAndEvaluate(const sim::Simulator& simulator,
   ::testing::Test::RecordProperty("position_nees", std::to_string(a.position_nees));
   std::filesystem::remove_all(out);
   return a;
+}
+
+/// The rendered office with a conflict: `mcvio sim --scenario KIND --seed SEED --duration
+/// DURATION --onset ONSET --scenario-duration LENGTH`.
+sim::SimulatorOptions renderedScenario(sim::ScenarioKind kind, std::uint64_t seed, double duration_s, double onset_s,
+                                       double length_s) {
+  sim::SimulatorOptions so;
+  so.seed = seed;
+  so.duration_s = duration_s;
+  so.overwrite = true;
+  so.scenario.kind = kind;
+  so.scenario.onset_s = onset_s;
+  so.scenario.duration_s = length_s;
+  return so;
 }
 
 }  // namespace
@@ -110,14 +125,7 @@ TEST(OfflineAccuracy, SemiRealV101First60s) {
 // makes the conflict partial: 0.053 m (IMU noise x6; 0.055 against 0.334 m at x3, shipped since
 // 1015e6c; 0.039 m since vision's motion weighs its points by their depth uncertainty, 5432f6a).
 TEST(OfflineAccuracy, RenderedSlowObjectFoundByTheRegionSplitStaysSelective) {
-  sim::SimulatorOptions so;
-  so.seed = 3;
-  so.duration_s = 30.0;
-  so.overwrite = true;
-  so.scenario.kind = sim::ScenarioKind::kSlowObject;
-  so.scenario.onset_s = 10.0;
-  so.scenario.duration_s = 12.0;
-  const sim::Simulator simulator(so);
+  const sim::Simulator simulator(renderedScenario(sim::ScenarioKind::kSlowObject, 3, 30.0, 10.0, 12.0));
   pipeline::OfflineRunSummary s_ref, s_auto;
   std::size_t conflict_ref = 0, conflict_auto = 0;
   const auto ref = runAndEvaluate(simulator, "rendered_slow_object_ref", &s_ref, &conflict_ref, "reference");
@@ -135,13 +143,7 @@ TEST(OfflineAccuracy, RenderedSlowObjectFoundByTheRegionSplitStaysSelective) {
 // by position, and the end position they give takes out the drift of 4 s on the IMU alone
 // (measured: ATE 0.0372 m without the registration, 0.0145 m with it).
 TEST(OfflineAccuracy, RenderedFullOcclusionFindsTheMapAgainByPosition) {
-  sim::SimulatorOptions so;
-  so.seed = 1;
-  so.duration_s = 32.0;
-  so.overwrite = true;
-  so.scenario.kind = sim::ScenarioKind::kSelfOcclusion;
-  so.scenario.onset_s = 24.0;
-  so.scenario.duration_s = 4.0;
+  sim::SimulatorOptions so = renderedScenario(sim::ScenarioKind::kSelfOcclusion, 1, 32.0, 24.0, 4.0);
   so.scenario.coverage = 1.0;
   const sim::Simulator simulator(so);
   // The shipped configuration with the registration off.
