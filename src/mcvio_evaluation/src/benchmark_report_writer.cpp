@@ -50,7 +50,7 @@ std::string checksText(const BenchmarkRun& r) {
   const std::pair<const char*, const std::optional<bool>*> items[] = {
       {"ATE", &r.checks.ate_reduction}, {"RPE", &r.checks.rpe_reduction},     {"clean", &r.checks.clean_ate},
       {"det", &r.checks.detection},     {"ride", &r.checks.ride_displacement}, {"cabin", &r.checks.secondary_motion},
-      {"cost", &r.checks.cost}};
+      {"vehicle", &r.checks.vehicle_motion}, {"cost", &r.checks.cost}};
   std::vector<std::string> parts;
   for (const auto& [name, c] : items)
     if (c->has_value()) parts.push_back(std::string(name) + (**c ? " ok" : " FAIL"));
@@ -203,6 +203,9 @@ std::string BenchmarkReportWriter::toJson(const BenchmarkResult& result) {
                        {{"truth_dz_m", number(r.ride_truth_dz_m)}, {"estimate_dz_m", number(r.ride_estimate_dz_m)},
                         {"error_percent", number(r.ride_error_percent)}, {"secondary_dz_m", number(r.secondary_dz_m)},
                         {"secondary_error_percent", number(r.secondary_error_percent)}}},
+                      {"travel",
+                       {{"truth_m", number(r.travel_truth_m)}, {"secondary_m", number(r.secondary_travel_m)},
+                        {"secondary_error_percent", number(r.secondary_travel_error_percent)}}},
                       {"vs_reference",
                        {{"ate_reduction_percent", number(r.ate_reduction_percent)},
                         {"ate_in_conflict_reduction_percent", number(r.ate_in_conflict_reduction_percent)},
@@ -215,6 +218,7 @@ std::string BenchmarkReportWriter::toJson(const BenchmarkResult& result) {
                         {"detection", check(r.checks.detection)},
                         {"ride_displacement", check(r.checks.ride_displacement)},
                         {"secondary_motion", check(r.checks.secondary_motion)},
+                        {"vehicle_motion", check(r.checks.vehicle_motion)},
                         {"cost", check(r.checks.cost)},
                         {"all_pass", r.checks.allPass()}}}});
     }
@@ -324,6 +328,23 @@ std::string BenchmarkReportWriter::toMarkdown(const BenchmarkResult& result) {
     }
   }
   if (ride_header) md << "\n";
+
+  bool travel_header = false;
+  for (const auto& sr : result.sequences) {
+    if (sr.sequence.sweep || sr.sequence.scenario != "vehicle") continue;
+    for (const auto& r : sr.runs) {
+      if (!std::isfinite(r.secondary_travel_error_percent)) continue;
+      if (!travel_header) {
+        md << "## Vehicle travel (the secondary frame's translation over the labelled interval, in the ground "
+              "truth's frame by the position+yaw alignment)\n\n"
+           << "| Sequence | Mode | Truth [m] | Secondary frame [m] | Error [%] |\n|---|---|---|---|---|\n";
+        travel_header = true;
+      }
+      md << "| " << sr.sequence.name << " | " << r.mode << " | " << fmt("%.3f", r.travel_truth_m) << " | "
+         << fmt("%.3f", r.secondary_travel_m) << " | " << fmt("%.1f", r.secondary_travel_error_percent) << " |\n";
+    }
+  }
+  if (travel_header) md << "\n";
 
   bool floor_header = false;
   for (const auto& sr : result.sequences) {

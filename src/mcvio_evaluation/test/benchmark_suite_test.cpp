@@ -1,5 +1,6 @@
 // BenchmarkSuite: option checks, the plan, target bookkeeping on constructed results, and one
 // short simulated elevator run end to end (deterministic seed).
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -9,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "mcvio/core/time.hpp"
 #include "mcvio/evaluation/benchmark_report_writer.hpp"
 #include "mcvio/evaluation/benchmark_suite.hpp"
 
@@ -140,6 +142,7 @@ TEST(BenchmarkSuite, TargetsCountPassesAndTheWorstRun) {
   vehicle.runs[1].ate_reduction_percent = 50.0;
   vehicle.runs[1].rpe_reduction_percent = 50.0;
   vehicle.runs[1].added_cost_percent = 0.0;
+  vehicle.runs[1].secondary_travel_error_percent = 12.0;  // the vehicle's own motion 12 % off
   // Clean: 3% more ATE, FPR 0.05.
   auto clean = sequence("none", 0);
   clean.runs = {makeRun("reference", 1.0, 0.1, NAN, 0.0, 10.0), makeRun("auto", 1.03, 0.1, NAN, 0.05, 10.0)};
@@ -162,6 +165,8 @@ TEST(BenchmarkSuite, TargetsCountPassesAndTheWorstRun) {
   EXPECT_FALSE(v.detection.value_or(true));
   EXPECT_FALSE(v.ride_displacement.has_value());
   EXPECT_FALSE(v.secondary_motion.has_value());
+  EXPECT_FALSE(v.vehicle_motion.value_or(true));
+  EXPECT_FALSE(e.vehicle_motion.has_value());
   EXPECT_FALSE(v.allPass());
   const auto& c = result.sequences[2].runs[1].checks;
   EXPECT_TRUE(c.clean_ate.value_or(false));
@@ -194,6 +199,72 @@ TEST(BenchmarkSuite, TargetsCountPassesAndTheWorstRun) {
   EXPECT_EQ(cabin.total, 1u);
   EXPECT_TRUE(cabin.pass());
   EXPECT_DOUBLE_EQ(cabin.worst, 4.0);
+  const auto& travel = summary("vehicle (secondary) motion");
+  EXPECT_EQ(travel.total, 1u);
+  EXPECT_FALSE(travel.pass());
+  EXPECT_DOUBLE_EQ(travel.worst, 12.0);
+}
+
+// The vehicle's own motion: the secondary frame's translation, in the estimator's world, which
+// differs from the ground truth's by a yaw of 40 degrees and an offset, against the body's travel.
+TEST(BenchmarkSuite, VehicleTravelOfTheSecondaryFrameInTheGroundTruthsFrame) {
+  using mcvio::fromSeconds;
+  BenchmarkSequence sequence;
+  sequence.scenario = "vehicle";
+  sequence.name = "vehicle_s1";
+  sequence.conflict_duration_s = 4.0;
+  const Eigen::AngleAxisd yaw(40.0 * M_PI / 180.0, Eigen::Vector3d::UnitZ());
+  const Eigen::Vector3d offset(3.0, -2.0, 0.5);
+  std::vector<StampedPose> truth, estimate, secondary;
+  std::vector<mcvio::dataset::ConflictLabel> labels;
+  for (int k = 0; k <= 120; ++k) {  // 6 s at 20 Hz, the vehicle moving 1-5 s along x, 4 m/s
+    const double t = 0.05 * k;
+    const double travel = 4.0 * std::clamp(t - 1.0, 0.0, 4.0);
+    StampedPose g;
+    g.t = fromSeconds(t);
+    g.p = Eigen::Vector3d(travel, 0.1 * std::sin(t), 1.0);
+    truth.push_back(g);
+    StampedPose est = g;
+    est.p = yaw.inverse() * (g.p - offset);  // the estimator's world
+    est.q = Eigen::Quaterniond(yaw.inverse());
+    estimate.push_back(est);
+    const bool moving = t >= 1.0 && t <= 5.0;
+    labels.push_back({g.t, moving, moving ? "vehicle" : "none", moving ? 0.7 : 0.0});
+    if (t >= 1.4 && t <= 5.0) {  // tracked from the detection, 5 % short
+      StampedPose sp;
+      sp.t = g.t;
+      sp.p = yaw.inverse() * Eigen::Vector3d(0.95 * (travel - 1.6), 0.0, 0.0);
+      secondary.push_back(sp);
+    }
+  }
+  std::vector<BenchmarkModeRun> runs(2);
+  runs[0].mode = "reference";
+  runs[1].mode = "auto";
+  for (auto& r : runs) {
+    r.estimate = Trajectory(estimate, r.mode);
+    r.frames = estimate.size();
+  }
+  runs[1].secondary = Trajectory(secondary, "secondary");
+  BenchmarkOptions options;
+  options.modes = {"reference", "auto"};
+  const auto sr = BenchmarkSuite::evaluateSequence(sequence, Trajectory(truth, "truth"), ConflictLabelTimeline(labels, "labels"),
+                                                   runs, options);
+  ASSERT_EQ(sr.runs.size(), 2u);
+  EXPECT_FALSE(std::isfinite(sr.runs[0].secondary_travel_error_percent));  // no secondary frame
+  const BenchmarkRun& a = sr.runs[1];
+  EXPECT_NEAR(a.travel_truth_m, 16.0, 0.15);  // plus the body's own sway
+  // The secondary frame started 0.4 s (1.6 m) in and came out 5 % short: 0.95 * 14.4 m.
+  EXPECT_NEAR(a.secondary_travel_m, 0.95 * 14.4, 1e-6);
+  EXPECT_NEAR(a.secondary_travel_error_percent, 100.0 * (16.0 - 0.95 * 14.4) / 16.0, 0.5);
+  const std::string md = BenchmarkReportWriter::toMarkdown([&] {
+    BenchmarkResult result;
+    result.options = options;
+    result.sequences = {sr};
+    BenchmarkSuite::applyTargets(result);
+    return result;
+  }());
+  EXPECT_NE(md.find("## Vehicle travel"), std::string::npos);
+  EXPECT_NE(md.find("vehicle FAIL"), std::string::npos);  // 14.5 % > 10 %
 }
 
 TEST(BenchmarkSuite, ShortElevatorRunEndToEnd) {

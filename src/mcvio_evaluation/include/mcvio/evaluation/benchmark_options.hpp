@@ -22,7 +22,8 @@ struct BenchmarkTargets {
   /// Elevator: estimated vertical displacement of the ride within this share of the truth [%].
   double ride_displacement_tolerance_percent = 5.0;
   /// Elevator: the cabin's own motion (the secondary frame's vertical displacement) within this
-  /// share of the ride's truth [%].
+  /// share of the ride's truth [%]; vehicle: the secondary frame's translation within this share
+  /// of the travel.
   double secondary_motion_tolerance_percent = 10.0;
   /// Backend CPU per frame at most this much above the reference without its detectors [%].
   double max_added_cost_percent = 20.0;

@@ -49,6 +49,7 @@ struct BenchmarkChecks {
   std::optional<bool> detection;         ///< TPR (with conflict) and FPR
   std::optional<bool> ride_displacement; ///< elevator
   std::optional<bool> secondary_motion;  ///< elevator: the cabin's own motion
+  std::optional<bool> vehicle_motion;    ///< vehicle: the vehicle's own motion
   std::optional<bool> cost;
   /// All applicable checks pass (true when none applies).
   bool allPass() const;
@@ -91,6 +92,11 @@ struct BenchmarkRun {
   /// was valid (identity at the detected interval start).
   double ride_truth_dz_m = kNaN, ride_estimate_dz_m = kNaN, ride_error_percent = kNaN;
   double secondary_dz_m = kNaN, secondary_error_percent = kNaN;
+  /// Vehicle: the body's displacement over the labelled interval (first to last labelled tracked
+  /// frame) and the secondary frame's translation at the last labelled frame where it was valid,
+  /// turned into the ground truth's frame by the run's position+yaw alignment; the error is the
+  /// length of their difference over the truth's length [%].
+  double travel_truth_m = kNaN, secondary_travel_m = kNaN, secondary_travel_error_percent = kNaN;
 
   /// Versus `reference` on the same sequence: 100 (ref - run) / ref, positive = less error.
   double ate_reduction_percent = kNaN;
