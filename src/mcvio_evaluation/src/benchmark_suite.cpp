@@ -15,6 +15,7 @@
 #include "mcvio/estimator/sliding_window_estimator.hpp"
 #include "mcvio/evaluation/evaluator.hpp"
 #include "mcvio/evaluation/report_writer.hpp"
+#include "mcvio/evaluation/ride_measurement.hpp"
 #include "mcvio/sim/feature_simulator.hpp"
 
 namespace mcvio::evaluation {
@@ -106,11 +107,6 @@ const std::vector<std::string> kDetectorColumns = {
     "timestamp_ns",          "state",     "propagated_chi2",   "propagated_threshold", "landmarks_tested",
     "landmarks_inconsistent", "inconsistent_fraction", "coherence", "interval_start_ns", "resolution_mode",
     "interval_onset_ns",     "interval_end_ns", "evidence_score"};
-
-double percentError(double estimate, double truth) {
-  if (!std::isfinite(estimate) || !std::isfinite(truth) || truth == 0) return kNaN;
-  return 100.0 * std::abs(estimate - truth) / std::abs(truth);
-}
 
 std::string fmt(const char* format, double v) {
   if (!std::isfinite(v)) return "n/a";
@@ -294,48 +290,21 @@ BenchmarkSequenceResult BenchmarkSuite::evaluateSequence(const BenchmarkSequence
         }
       }
     }
-    // First and last tracked frames labelled in conflict: the ride as this run saw it.
-    const StampedPose* first = nullptr;
-    const StampedPose* last = nullptr;
     if (elevator || vehicle) {
-      for (const auto& p : pass.estimate.poses()) {
-        if (!labels.inConflictAt(p.t, label_tolerance_s).value_or(false)) continue;
-        if (!first) first = &p;
-        last = &p;
-      }
-    }
-    if (vehicle && first && last && last->t > first->t && e) {
-      const auto g0 = ground_truth.interpolate(first->t, 0.1);
-      const auto g1 = ground_truth.interpolate(last->t, 0.1);
-      const StampedPose* s_last = nullptr;
-      for (const auto& s : pass.secondary.poses())
-        if (s.t >= first->t && s.t <= last->t) s_last = &s;
-      if (g0 && g1 && s_last) {
-        // The secondary frame starts as the world frame, so its translation is the vehicle's; the
-        // estimator's world differs from the ground truth's by a yaw, which the alignment finds.
-        const Eigen::Vector3d truth = g1->p - g0->p;
-        const Eigen::Vector3d estimate = e->ate_posyaw.T_gt_est.linear() * s_last->p;
-        run.travel_truth_m = truth.norm();
-        run.secondary_travel_m = estimate.norm();
-        if (run.travel_truth_m > 0) run.secondary_travel_error_percent = 100.0 * (estimate - truth).norm() / run.travel_truth_m;
-      }
-    }
-    if (elevator) {
-      if (first && last && last->t > first->t) {
-        const auto g0 = ground_truth.interpolate(first->t, 0.1);
-        const auto g1 = ground_truth.interpolate(last->t, 0.1);
-        if (g0 && g1) {
-          run.ride_truth_dz_m = g1->p.z() - g0->p.z();
-          run.ride_estimate_dz_m = last->p.z() - first->p.z();
-          run.ride_error_percent = percentError(run.ride_estimate_dz_m, run.ride_truth_dz_m);
-          const StampedPose* s_last = nullptr;
-          for (const auto& s : pass.secondary.poses())
-            if (s.t >= first->t && s.t <= last->t) s_last = &s;
-          if (s_last) {
-            run.secondary_dz_m = s_last->p.z();
-            run.secondary_error_percent = percentError(run.secondary_dz_m, run.ride_truth_dz_m);
-          }
-        }
+      // The vehicle's travel needs the alignment's yaw; the elevator's heights do not.
+      const Eigen::Matrix3d R_gt_est = e ? Eigen::Matrix3d(e->ate_posyaw.T_gt_est.linear()) : Eigen::Matrix3d::Identity();
+      const RideMeasurement ride =
+          RideMeasurement::measure(pass.estimate, pass.secondary, ground_truth, labels, R_gt_est, label_tolerance_s);
+      if (elevator) {
+        run.ride_truth_dz_m = ride.truth_dz_m;
+        run.ride_estimate_dz_m = ride.estimate_dz_m;
+        run.ride_error_percent = ride.dz_error_percent;
+        run.secondary_dz_m = ride.secondary_dz_m;
+        run.secondary_error_percent = ride.secondary_dz_error_percent;
+      } else if (e) {
+        run.travel_truth_m = ride.travel_truth_m;
+        run.secondary_travel_m = ride.secondary_travel_m;
+        run.secondary_travel_error_percent = ride.secondary_travel_error_percent;
       }
     }
     result.runs.push_back(run);

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "mcvio/dds/participant.hpp"
+#include "mcvio/evaluation/ride_measurement.hpp"
 
 namespace mcvio::cli {
 
@@ -54,6 +55,9 @@ class DemoPipeline {
     double mcvio_hindsight_fpr = std::numeric_limits<double>::quiet_NaN();
     /// Seconds from the first labelled frame to MC-VIO's first detection (NaN: never, or no labels).
     double mcvio_onset_delay_s = std::numeric_limits<double>::quiet_NaN();
+    /// Rides (elevator): how far the labelled interval carried the device up, how far each
+    /// trajectory says it went, and how far the conflicting frame (the cabin) moved.
+    evaluation::RideMeasurement reference_ride, mcvio_ride;
     bool rendered = false;                                ///< false: reused from a previous run
     double render_s = 0, dds_s = 0, reference_s = 0;      ///< wall time of each step
     std::string report_dir, bag_dir;
