@@ -25,7 +25,7 @@ check "prints the table row" grep -qE '^\| elevator \| [0-9]+ \| [0-9.]+ \| [0-9
 check "prints when MC-VIO detected the conflict" grep -qE '^\| elevator( \| [^|]+){9} \| [0-9]+\.[0-9]{2} \|$' "$tmp/run1.txt"
 check "prints the report path" grep -qF "$out/elevator/report/eval.md" "$tmp/run1.txt"
 check "prints the ride and the cabin's own motion" grep -qE "^  the cabin's own motion \(secondary frame, secondary.tum\) [0-9]+\.[0-9]{2} m \([0-9]+\.[0-9] % off\)" "$tmp/run1.txt"
-for f in report/eval.json report/eval.md report/trajectory_top.png report/error_over_time.png report/roc.png report/evidence_over_time.png \
+for f in report/eval.json report/eval.md report/trajectory_top.png report/error_over_time.png report/roc.png report/evidence_over_time.png report/ride_heights.png \
          bag/metadata.yaml mcvio/trajectory.tum mcvio/secondary.tum mcvio/conflict.csv reference/trajectory.tum reference/conflict.csv; do
   check "wrote $f" test -s "$out/elevator/$f"
 done

@@ -27,6 +27,7 @@
 #include "mcvio/dds/node.hpp"
 #include "mcvio/dds/shutdown_signal.hpp"
 #include "mcvio/evaluation/evaluator.hpp"
+#include "mcvio/evaluation/plot_canvas.hpp"
 #include "mcvio/evaluation/report_plotter.hpp"
 #include "mcvio/evaluation/report_writer.hpp"
 #include "mcvio/evaluation/ride_measurement.hpp"
@@ -410,6 +411,53 @@ void DemoPipeline::runReference(const Sequence& s) const {
             << summary.resets << " resets -> " << s.reference_dir.string() << "\n";
 }
 
+namespace {
+
+/// The elevator's ride as each trajectory saw it: height gained since the labelled ride began,
+/// the ground truth's, the reference's and MC-VIO's (position+yaw aligned), and the cabin's own
+/// (MC-VIO's secondary frame, which starts as the world where the interval opens).
+std::string plotRide(const std::string& dir, const ev::Trajectory& gt, const ev::ConflictLabelTimeline& labels,
+                     const ev::EvaluationReport& report, const ev::Trajectory& cabin) {
+  const auto& l = labels.labels();
+  const auto start = std::find_if(l.begin(), l.end(), [](const auto& x) { return x.in_conflict; });
+  if (start == l.end() || gt.poses().empty()) return {};
+  const Timestamp t0 = gt.poses().front().t, ride = start->t;
+  auto heightsSince = [&](const std::vector<ev::StampedPose>& poses, std::vector<double>* t, std::vector<double>* z) {
+    const auto at = std::lower_bound(poses.begin(), poses.end(), ride, [](const auto& p, Timestamp x) { return p.t < x; });
+    if (at == poses.end()) return;
+    for (const auto& p : poses) {
+      t->push_back(toSeconds(p.t - t0));
+      z->push_back(p.p.z() - at->p.z());
+    }
+  };
+  ev::PlotCanvas c("Elevator ride: height gained since the ride began");
+  c.setXLabel("time [s]");
+  c.setYLabel("height [m]");
+  for (const auto& i : labels.conflictIntervals())
+    c.addXBand(toSeconds(i.start - t0), toSeconds(i.end - t0), cv::Scalar(80, 130, 255), "labelled ride", 0.3);
+  std::vector<double> t, z;
+  heightsSince(gt.poses(), &t, &z);
+  c.addLine(t, z, cv::Scalar(30, 30, 30), "ground truth", 2, true);
+  for (std::size_t i = 0; i < report.estimates.size(); ++i) {
+    t.clear();
+    z.clear();
+    heightsSince(report.estimates[i].ate_posyaw.aligned_estimate, &t, &z);
+    c.addLine(t, z, ev::ReportPlotter::runColor(i), report.estimates[i].name, 2);
+  }
+  t.clear();
+  z.clear();
+  for (const auto& p : cabin.poses()) {
+    t.push_back(toSeconds(p.t - t0));
+    z.push_back(p.p.z());
+  }
+  if (!t.empty()) c.addLine(t, z, cv::Scalar(40, 40, 200), "the cabin (MC-VIO's secondary frame)", 3);
+  const std::string path = dir + "/ride_heights.png";
+  c.save(path);
+  return path;
+}
+
+}  // namespace
+
 void DemoPipeline::evaluate(const Sequence& s, SequenceResult& r) const {
   ev::EvaluationOptions eo;
   eo.baseline = "reference";
@@ -456,6 +504,8 @@ void DemoPipeline::evaluate(const Sequence& s, SequenceResult& r) const {
     r.reference_ride = ev::RideMeasurement::measure(runs[0].trajectory, ev::Trajectory(), gt, labels,
                                                     ref->ate_posyaw.T_gt_est.linear());
     r.mcvio_ride = ev::RideMeasurement::measure(runs[1].trajectory, cabin, gt, labels, mc->ate_posyaw.T_gt_est.linear());
+    const std::string plot = plotRide(s.report_dir.string(), gt, labels, report, cabin);
+    if (!plot.empty()) r.plots.push_back(plot);
   }
 }
 
