@@ -82,6 +82,7 @@ void MotionConflictMonitor::reset() {
   frames_since_reset_ = 0;
   frames_since_imu_exit_ = -1;
   frames_since_interval_ = -1;
+  frames_after_conflict_ = -1;
   tracker_.reset();
   classifier_.clear();
   secondary_.end();
@@ -781,10 +782,21 @@ void MotionConflictMonitor::commit(const State& solved, ConflictReport* report) 
   ++frames_since_reset_;
   if (frames_since_imu_exit_ >= 0) ++frames_since_imu_exit_;
   const std::size_t lag = static_cast<std::size_t>(options_.bias_reference_lag_frames);
-  // Only biases estimated after the warm-up count: the first estimates are still settling.
-  if (tracker_.state() != conflict::ConflictIntervalTracker::State::kConflict &&
-      frames_since_reset_ > options_.warmup_frames + static_cast<int>(lag) && history_.size() > lag &&
-      biasSettled(history_.size() - 1 - lag)) {
+  const bool in_conflict = tracker_.state() == conflict::ConflictIntervalTracker::State::kConflict;
+  if (in_conflict)
+    frames_after_conflict_ = 0;
+  else if (frames_after_conflict_ >= 0)
+    ++frames_after_conflict_;
+  // Only biases estimated after the warm-up count: the first estimates are still settling. Nor,
+  // when intervals hold biases, an estimate from the lag before an interval that has just closed:
+  // it was bending before that interval was found, and an interval reopening soon would hold it
+  // (an IMU-dominated exit restarts the warm-up anyway; a selective interval does not).
+  // `reference` holds nothing and keeps its bend after the interval: a reference from before it
+  // would count that bend as fresh evidence.
+  const bool after_recent_interval = options_.mode != conflict::ResolutionMode::kReference &&
+                                     frames_after_conflict_ >= 0 && frames_after_conflict_ <= static_cast<int>(lag);
+  if (!in_conflict && !after_recent_interval && frames_since_reset_ > options_.warmup_frames + static_cast<int>(lag) &&
+      history_.size() > lag && biasSettled(history_.size() - 1 - lag)) {
     reference_bias_ = history_[history_.size() - 1 - lag].state.bias;
     have_reference_bias_ = true;
   }

@@ -55,14 +55,21 @@ struct Trajectory {
   double accel_x = 0.05;
   double pulse_start_s = kNever, pulse_duration_s = 1.0, pulse_peak = 0.0;
   double brake_start_s = kNever;
+  double second_pulse_start_s = kNever;  ///< a second ride: the same pulse again
 
-  Eigen::Vector3d accel(double s) const { return {accel_x, 0, pulseAccel(s - pulse_start_s) - pulseAccel(s - brake_start_s)}; }
+  Eigen::Vector3d accel(double s) const {
+    return {accel_x, 0,
+            pulseAccel(s - pulse_start_s) - pulseAccel(s - brake_start_s) + pulseAccel(s - second_pulse_start_s)};
+  }
   Eigen::Vector3d velocity(double s) const {
-    return v0 + Eigen::Vector3d(accel_x * s, 0, pulseVelocity(s - pulse_start_s) - pulseVelocity(s - brake_start_s));
+    return v0 + Eigen::Vector3d(accel_x * s, 0,
+                                pulseVelocity(s - pulse_start_s) - pulseVelocity(s - brake_start_s) +
+                                    pulseVelocity(s - second_pulse_start_s));
   }
   Eigen::Vector3d position(double s) const {
     return v0 * s + Eigen::Vector3d(0.5 * accel_x * s * s, 0,
-                                    pulsePosition(s - pulse_start_s) - pulsePosition(s - brake_start_s));
+                                    pulsePosition(s - pulse_start_s) - pulsePosition(s - brake_start_s) +
+                                        pulsePosition(s - second_pulse_start_s));
   }
 
  private:
@@ -1255,6 +1262,51 @@ TEST(MotionConflictMonitor, AnInertialDriftPastTheStopDoesNotHoldTheInterval) {
   // The drifting estimate may hold the interval while its speed falls (the braking it saw), not
   // once it has turned: 1.5 m/s downwards is reached 32 frames after the stop.
   EXPECT_LT(exit, stop_frame + 32) << "exit " << exit << ", stop " << stop_frame;
+}
+
+TEST(MotionConflictMonitor, AnIntervalReopeningSoonHoldsTheBiasHeldBeforeNotTheBendBeforeIt) {
+  // Between a ride's start and its detection the estimator bends its bias. Once an interval that
+  // held the biases has closed, the lagged reference must not reach back into that bend: an
+  // interval reopening within bias_reference_lag_frames would hold it. (A 40 s vehicle ride of
+  // the sweep opened and closed two selective intervals in 2 s; the third held a gyro bias 0.0009
+  // rad/s off, and the tilt that grew from it kept the interval open 15 s past the stop.) An
+  // IMU-dominated exit restarts the warm-up, so a selective interval shows it: the cabin fills
+  // the view, every track is eliminated, and the thin view holds the biases. The lag is 100
+  // frames here, so both rides and the stop between them fall inside it.
+  constexpr int kLag = 100, kRide1 = 150, kRide2 = 248;
+  constexpr int kBendFrames = 25;  // the estimate bends from the ride's start until it is held
+  constexpr double kBend = 0.08;   // m/s^2 along x, inside the settling rule's 5 sigma
+  Scenario sc = cabin(80, kRide1);
+  sc.traj.v0.setZero();  // the cabin stands between its rides
+  sc.traj.accel_x = 0;
+  sc.traj.brake_start_s = frameSeconds(kRide1 + 20);
+  sc.traj.second_pulse_start_s = frameSeconds(kRide2);
+  sc.commit_adjust = [=](int k, const MotionConflictMonitor::Decision& d, MotionConflictMonitor::State* s) {
+    if (d.hold_bias)
+      s->bias = d.held_bias;
+    else if (k >= kRide1 && k < kRide1 + kBendFrames)
+      s->bias.accel.x() += kBend;
+  };
+  conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kSelective);
+  o.bias_reference_lag_frames = kLag;
+  const auto frames = run(sc, o, kRide2 + 40);
+  const int hold1 = firstFrame(frames, [](const Frame& f) { return f.decision.hold_bias; });
+  ASSERT_GT(hold1, kRide1);
+  ASSERT_LT(hold1, kRide1 + kBendFrames);
+  const int exit1 = firstFrame(frames, [&](const Frame& f) { return &f - frames.data() > hold1 && !inConflict(f); });
+  ASSERT_GE(exit1, kRide1 + 40) << "closes once the cabin has stopped";
+  ASSERT_LT(exit1, kRide2);
+  const int hold2 = firstFrame(frames, [&](const Frame& f) { return &f - frames.data() > exit1 && f.decision.hold_bias; });
+  ASSERT_GT(hold2, kRide2);
+  ASSERT_LT(hold2, exit1 + kLag);
+  // Without the rule the reference, lagging 100 frames behind, would come from the bend.
+  ASSERT_GE(hold2 - 1 - kLag, kRide1);
+  ASSERT_LT(hold2 - 1 - kLag, hold1);
+  for (const int k : {hold1, hold2}) {
+    EXPECT_FALSE(frames[k].decision.imu_dominated) << "frame " << k;
+    EXPECT_LT((frames[k].decision.held_bias.accel - sc.imu_bias.accel).norm(), 1e-12)
+        << "frame " << k << " holds " << frames[k].decision.held_bias.accel.transpose();
+  }
 }
 
 TEST(MotionConflictMonitor, AnIntervalEndingWithAVelocityJumpRestartsAtVisionsVelocity) {

@@ -123,7 +123,7 @@ int main(int argc, char** argv) {
   estimator::SlidingWindowEstimator est(eo, seq.calibration);
   std::ofstream csv;
   if (argc > 5 && std::string(argv[5]) != "-") csv.open(argv[5]);
-  if (csv) csv << "t,state,chi2,tested,inconsistent,fraction,coherence,label,px,py,pz,gx,gy,gz,sec_valid,sz,bax,bay,baz,vx,vy,vz,drift,moving,split,score,tbax,tbay,tbaz,tvz,qerr_deg,residuals,landmarks,tilt_deg,tiltx,tilty\n";
+  if (csv) csv << "t,state,chi2,tested,inconsistent,fraction,coherence,label,px,py,pz,gx,gy,gz,sec_valid,sz,bax,bay,baz,vx,vy,vz,drift,moving,split,score,tbax,tbay,tbaz,tvz,qerr_deg,residuals,landmarks,tilt_deg,tiltx,tilty,bgx,bgy,bgz,tbgx,tbgy,tbgz\n";
   std::size_t k = 0, g = 0, li = 0;
   std::vector<Eigen::Vector3d> pe, pg;
   std::vector<Timestamp> pt;
@@ -200,7 +200,8 @@ int main(int argc, char** argv) {
           << Eigen::AngleAxisd(gt.q_WB.conjugate() * out.q_WB).angle() * 180.0 / M_PI << ','
           << out.num_visual_residuals << ',' << out.num_landmarks << ','
           << std::acos(std::clamp(up_est_B.dot(up_true_B), -1.0, 1.0)) * 180.0 / M_PI << ',' << up_est_W.x() << ','
-          << up_est_W.y() << '\n';
+          << up_est_W.y() << ',' << out.bias.gyro.x() << ',' << out.bias.gyro.y() << ','
+          << out.bias.gyro.z() << ',' << gt.bias_gyro.x() << ',' << gt.bias_gyro.y() << ',' << gt.bias_gyro.z() << '\n';
   }
   const auto a = align4(pe, pg);
   double sq = 0, sqc = 0;

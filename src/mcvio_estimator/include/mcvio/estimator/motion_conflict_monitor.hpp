@@ -208,6 +208,7 @@ class MotionConflictMonitor {
   int frames_since_reset_ = 0;
   int frames_since_imu_exit_ = -1;  ///< -1: no IMU-dominated interval has ended since the last reset
   int frames_since_interval_ = -1;  ///< frames outside since the last interval closed; 0 inside one; -1: none yet
+  int frames_after_conflict_ = -1;  ///< frames committed since the last one in conflict; -1: none yet
   Timestamp active_since_ = 0;      ///< the frame before the first of the current suspected or open conflict (probation from there)
 };
 
