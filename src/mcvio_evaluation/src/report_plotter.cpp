@@ -11,8 +11,6 @@ namespace mcvio::evaluation {
 
 namespace {
 
-const cv::Scalar kGroundTruth(30, 30, 30);
-const cv::Scalar kConflict(80, 130, 255);  // orange-red shading (BGR)
 const char* kConflictLabel = "labelled conflict";
 
 double since(Timestamp t, Timestamp t0) { return toSeconds(t - t0); }
@@ -20,7 +18,7 @@ double since(Timestamp t, Timestamp t0) { return toSeconds(t - t0); }
 void shadeIntervals(PlotCanvas& canvas, const EvaluationReport& report, Timestamp t0) {
   if (!report.labels) return;
   for (const auto& i : report.labels->conflictIntervals()) {
-    canvas.addXBand(since(i.start, t0), since(i.end, t0), kConflict, kConflictLabel, 0.3);
+    canvas.addXBand(since(i.start, t0), since(i.end, t0), ReportPlotter::conflictColor(), kConflictLabel, 0.3);
   }
 }
 
@@ -39,6 +37,10 @@ cv::Scalar ReportPlotter::runColor(std::size_t i) {
                                        {207, 190, 23}, {194, 119, 227}, {75, 86, 140}};
   return palette[i % (sizeof(palette) / sizeof(palette[0]))];
 }
+
+cv::Scalar ReportPlotter::groundTruthColor() { return {30, 30, 30}; }
+
+cv::Scalar ReportPlotter::conflictColor() { return {80, 130, 255}; }
 
 std::vector<std::string> ReportPlotter::write(const EvaluationReport& report, const std::string& dir,
                                               const PlotStyle& style) {
@@ -77,7 +79,7 @@ std::vector<std::string> ReportPlotter::write(const EvaluationReport& report, co
             y.push_back(p.p.y());
           }
         }
-        c.addLine(x, y, kConflict, kConflictLabel, 14, false, 0.45);
+        c.addLine(x, y, ReportPlotter::conflictColor(), kConflictLabel, 14, false, 0.45);
       }
     }
     std::vector<double> x, y;
@@ -85,7 +87,7 @@ std::vector<std::string> ReportPlotter::write(const EvaluationReport& report, co
       x.push_back(p.p.x());
       y.push_back(p.p.y());
     }
-    c.addLine(x, y, kGroundTruth, "ground truth", 2, true);
+    c.addLine(x, y, ReportPlotter::groundTruthColor(), "ground truth", 2, true);
     for (std::size_t i = 0; i < report.estimates.size(); ++i) {
       std::vector<double> ex, ey;
       for (const auto& p : report.estimates[i].ate_se3.aligned_estimate) {
@@ -108,7 +110,7 @@ std::vector<std::string> ReportPlotter::write(const EvaluationReport& report, co
       t.push_back(since(p.t, t0));
       z.push_back(p.p.z());
     }
-    c.addLine(t, z, kGroundTruth, "ground truth", 2, true);
+    c.addLine(t, z, ReportPlotter::groundTruthColor(), "ground truth", 2, true);
     for (std::size_t i = 0; i < report.estimates.size(); ++i) {
       std::vector<double> et, ez;
       for (const auto& p : report.estimates[i].ate_se3.aligned_estimate) {

@@ -85,7 +85,7 @@ std::string readFile(const std::string& path) {
 
 }  // namespace
 
-Trajectory loadTum(const std::string& path) {
+Trajectory loadTum(const std::string& path, EmptyTum empty) {
   if (fs::is_directory(path)) throw InputError(path + ": is a directory, expected a TUM file");
   const std::string content = readFile(path);
   Trajectory trajectory({}, path);
@@ -131,7 +131,7 @@ Trajectory loadTum(const std::string& path) {
     trajectory.append(pose);
     previous_line = line_number;
   }
-  if (trajectory.empty()) throw InputError(path + ": contains no poses");
+  if (trajectory.empty() && empty == EmptyTum::kError) throw InputError(path + ": contains no poses");
   return trajectory;
 }
 

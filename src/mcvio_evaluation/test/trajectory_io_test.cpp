@@ -83,6 +83,18 @@ TEST(TrajectoryIo, MalformedTumLinesNameFileLineAndField) {
   EXPECT_NE(e.find("no poses"), std::string::npos) << e;
 }
 
+TEST(TrajectoryIo, AHeaderOnlyFileIsEmptyOnlyWhenAllowed) {
+  // secondary.tum of a run that never tracked a secondary frame holds its header only.
+  const std::string path = test::freshDir("tum_header_only") + "/secondary.tum";
+  test::writeText(path, "# the conflicting frame S in world\n");
+  EXPECT_THROW(loadTum(path), InputError);
+  EXPECT_TRUE(loadTum(path, EmptyTum::kEmptyTrajectory).empty());
+  // Allowing an empty file does not let a malformed or a missing one through.
+  test::writeText(path, "# header\n1 0 0 0 0 0 0\n");
+  EXPECT_THROW(loadTum(path, EmptyTum::kEmptyTrajectory), InputError);
+  EXPECT_THROW(loadTum(path + ".missing", EmptyTum::kEmptyTrajectory), InputError);
+}
+
 TEST(TrajectoryIo, MissingFilesAreInputErrors) {
   const std::string dir = test::freshDir("missing");
   EXPECT_THROW(loadTum(dir + "/nope.tum"), InputError);

@@ -434,10 +434,10 @@ std::string plotRide(const std::string& dir, const ev::Trajectory& gt, const ev:
   c.setXLabel("time [s]");
   c.setYLabel("height [m]");
   for (const auto& i : labels.conflictIntervals())
-    c.addXBand(toSeconds(i.start - t0), toSeconds(i.end - t0), cv::Scalar(80, 130, 255), "labelled ride", 0.3);
+    c.addXBand(toSeconds(i.start - t0), toSeconds(i.end - t0), ev::ReportPlotter::conflictColor(), "labelled ride", 0.3);
   std::vector<double> t, z;
   heightsSince(gt.poses(), &t, &z);
-  c.addLine(t, z, cv::Scalar(30, 30, 30), "ground truth", 2, true);
+  c.addLine(t, z, ev::ReportPlotter::groundTruthColor(), "ground truth", 2, true);
   for (std::size_t i = 0; i < report.estimates.size(); ++i) {
     t.clear();
     z.clear();
@@ -496,11 +496,7 @@ void DemoPipeline::evaluate(const Sequence& s, SequenceResult& r) const {
   }
   if (s.sim.scenario.kind == sim::ScenarioKind::kElevator) {
     // The conflicting frame's final poses; a run that never tracked one leaves the header only.
-    ev::Trajectory cabin;
-    try {
-      cabin = ev::loadTum((s.mcvio_dir / "secondary.tum").string());
-    } catch (const InputError&) {
-    }
+    const ev::Trajectory cabin = ev::loadTum((s.mcvio_dir / "secondary.tum").string(), ev::EmptyTum::kEmptyTrajectory);
     r.reference_ride = ev::RideMeasurement::measure(runs[0].trajectory, ev::Trajectory(), gt, labels,
                                                     ref->ate_posyaw.T_gt_est.linear());
     r.mcvio_ride = ev::RideMeasurement::measure(runs[1].trajectory, cabin, gt, labels, mc->ate_posyaw.T_gt_est.linear());

@@ -65,13 +65,7 @@ ev::BenchmarkModeRun runMode(const std::string& dataset, const std::string& out,
   const fs::path o(out);
   run.estimate = ev::loadTum((o / "trajectory.tum").string());
   run.detector = ev::DetectorLog::load((o / "conflict.csv").string()).records();
-  if (fs::is_regular_file(o / "secondary.tum") && fs::file_size(o / "secondary.tum") > 0) {
-    try {
-      run.secondary = ev::loadTum((o / "secondary.tum").string());
-    } catch (const InputError&) {
-      run.secondary = {};  // no secondary frame tracked in this run: the file holds only its header
-    }
-  }
+  run.secondary = ev::loadTum((o / "secondary.tum").string(), ev::EmptyTum::kEmptyTrajectory);
   return run;
 }
 

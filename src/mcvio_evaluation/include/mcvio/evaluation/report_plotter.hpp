@@ -21,6 +21,10 @@ class ReportPlotter {
 
   /// Colour of the i-th run (BGR), distinct from the black ground truth and the shading.
   static cv::Scalar runColor(std::size_t i);
+  /// Colour of the ground truth (BGR): near black.
+  static cv::Scalar groundTruthColor();
+  /// Colour of the labelled conflict intervals' shading (BGR): orange-red.
+  static cv::Scalar conflictColor();
 };
 
 }  // namespace mcvio::evaluation

@@ -10,8 +10,12 @@ namespace mcvio::evaluation {
 /// skipped. Quaternions within 1e-2 of unit norm are normalised.
 /// Throws mcvio::InputError "<path>:<line>: ..." naming the field for a missing file, a wrong
 /// field count, a field that is not a finite number, a non-unit quaternion or time that does
-/// not strictly increase; and for a file without poses.
-Trajectory loadTum(const std::string& path);
+/// not strictly increase; and, unless `empty` allows it, for a file without poses.
+enum class EmptyTum {
+  kError,            ///< a trajectory file must hold poses
+  kEmptyTrajectory,  ///< header only is an empty trajectory (secondary.tum of a run that tracked no secondary frame)
+};
+Trajectory loadTum(const std::string& path, EmptyTum empty = EmptyTum::kError);
 
 /// Reads EuRoC ground truth (state_groundtruth_estimate0/data.csv) of a data set: `dataset_dir`
 /// is the folder holding mav0/, mav0/ itself, or the CSV file. Errors as EurocFileReader's.
