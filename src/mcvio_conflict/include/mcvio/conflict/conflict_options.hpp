@@ -106,7 +106,9 @@ struct ConflictOptions {
   int warmup_frames = 40;
   /// The IMU prediction uses the biases estimated this many frames before the newest conflict-free
   /// frame: inside a conflict the estimator bends the accelerometer bias to explain the missing
-  /// motion, and a prediction with that bias would agree with vision.
+  /// motion, and a prediction with that bias would agree with vision. Outside `reference`, an
+  /// estimate also needs this many frames without a conflict after it: the frames just before an
+  /// interval bent the bias before it was found.
   int bias_reference_lag_frames = 40;
   /// A bias estimate becomes the reference only once every later estimate (over the lag) stayed
   /// within this many accel_bias_sigma / gyro_bias_sigma of it. Estimates that are still moving
