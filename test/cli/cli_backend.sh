@@ -10,21 +10,8 @@ tmp=$(mktemp -d)
 pids=()
 trap 'for p in "${pids[@]}"; do kill -KILL "$p" 2>/dev/null; done; rm -rf "$tmp"' EXIT
 failed=0
-# expect CODE PATTERN -- command...
-expect() {
-  local code=$1 pattern=$2
-  shift 3
-  local out rc
-  out=$(timeout -s KILL 30 "$@" 2>&1)
-  rc=$?
-  if [ "$rc" -ne "$code" ] || ! grep -qF -- "$pattern" <<<"$out"; then
-    echo "FAIL: '$*' exited $rc (want $code), output:"
-    echo "$out" | sed 's/^/    /' | tail -n 8
-    failed=1
-  else
-    echo "ok: '$*' -> $rc: $(grep -F -- "$pattern" <<<"$out" | head -n 1)"
-  fi
-}
+expect_timeout=30
+. "$(dirname "$0")/expect.sh"
 expect 106 "--calib is required" -- "$mcvio" backend
 expect 2 "/nonexistent: EuRoC folder does not exist" -- "$mcvio" backend --calib /nonexistent
 expect 105 "bogus not in {reference,imu,selective,auto}" -- "$mcvio" backend --calib /nonexistent --mode bogus

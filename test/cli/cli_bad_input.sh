@@ -6,21 +6,7 @@ domain=$((150 + RANDOM % 80))
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 failed=0
-# expect CODE PATTERN -- command...
-expect() {
-  local code=$1 pattern=$2
-  shift 3
-  local out rc
-  out=$(timeout -s KILL 60 "$@" 2>&1)
-  rc=$?
-  if [ "$rc" -ne "$code" ] || ! grep -qF -- "$pattern" <<<"$out"; then
-    echo "FAIL: '$*' exited $rc (want $code), output:"
-    echo "$out" | sed 's/^/    /' | tail -n 8
-    failed=1
-  else
-    echo "ok: '$*' -> $rc: $(grep -F -- "$pattern" <<<"$out" | head -n 1)"
-  fi
-}
+. "$(dirname "$0")/expect.sh"
 printf '<dds><profiles><participant profile_name="x"><rtps>' > "$tmp/broken.xml"
 expect 2 "$tmp/broken.xml" -- "$mcvio" --domain "$domain" --dds-profiles "$tmp/broken.xml" topics --wait 0.1
 expect 2 "does not exist" -- "$mcvio" --domain "$domain" --dds-profiles "$tmp/missing.xml" topics --wait 0.1

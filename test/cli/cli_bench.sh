@@ -7,6 +7,7 @@ mcvio=$1
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 failed=0
+. "$(dirname "$0")/expect.sh"
 fail() { echo "FAIL: $*"; failed=1; }
 
 out=$("$mcvio" bench --quick --out "$tmp/bench" 2>"$tmp/err")
@@ -66,21 +67,11 @@ assert floor is not None and floor == none["runs"][0]["ate_posyaw_rmse_m"], (flo
 PY
 [ "$failed" -eq 0 ] && echo "ok: image-level clean floor"
 
-expect() {  # expect PATTERN -- command...: exit 2 and PATTERN in the output
-  local pattern=$1
-  shift 2
-  local o r
-  o=$("$@" 2>&1)
-  r=$?
-  if [ "$r" -ne 2 ] || ! grep -qF -- "$pattern" <<<"$o"; then
-    fail "'$*' exited $r (want 2) without '$pattern': $o"
-  fi
-}
-expect "must include 'reference'" -- "$mcvio" bench --quick --modes imu,auto --out "$tmp/x"
-expect "tornado" -- "$mcvio" bench --quick --scenarios none,tornado --out "$tmp/x"
-expect "sweep_scenarios" -- "$mcvio" bench --quick --duration-sweep 0,10 --sweep-scenarios pedestrian --out "$tmp/x"
-expect "nothing to run" -- "$mcvio" bench --scenarios "" --no-sweep --out "$tmp/x"
-expect "need --level images" -- "$mcvio" bench --quick --real "$tmp" --out "$tmp/x"
+expect 2 "must include 'reference'" -- "$mcvio" bench --quick --modes imu,auto --out "$tmp/x"
+expect 2 "tornado" -- "$mcvio" bench --quick --scenarios none,tornado --out "$tmp/x"
+expect 2 "sweep_scenarios" -- "$mcvio" bench --quick --duration-sweep 0,10 --sweep-scenarios pedestrian --out "$tmp/x"
+expect 2 "nothing to run" -- "$mcvio" bench --scenarios "" --no-sweep --out "$tmp/x"
+expect 2 "need --level images" -- "$mcvio" bench --quick --real "$tmp" --out "$tmp/x"
 help=$("$mcvio" bench --help)
 for o in --out --level --modes --scenarios --seeds --duration-sweep --no-sweep --sweep-scenarios --sequence-duration \
          --onset --conflict-duration --sweep-tail --rpe-delta-s --jobs --quick --oracle-track-labels --no-plots --semi-real \

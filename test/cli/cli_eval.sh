@@ -6,6 +6,7 @@ mcvio=$1
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 failed=0
+. "$(dirname "$0")/expect.sh"
 fail() { echo "FAIL: $*"; failed=1; }
 
 # (%.0f for nanosecond stamps: mawk's %d is 32-bit.)
@@ -52,24 +53,12 @@ python3 -c 'import sys; sys.exit(0 if abs(float(sys.argv[1]) - 75.0) < 1e-6 else
   || fail "ATE reduction in eval.json is '$reduction', want 75%"
 [ "$failed" -eq 0 ] && echo "ok: report with comparison, detection and figures"
 
-expect() {  # expect PATTERN -- command...: exit 2 and PATTERN in the output
-  local pattern=$1
-  shift 2
-  local o r
-  o=$("$@" 2>&1)
-  r=$?
-  if [ "$r" -ne 2 ] || ! grep -qF -- "$pattern" <<<"$o"; then
-    fail "'$*' exited $r (want 2) without '$pattern': $o"
-  else
-    echo "ok: $(head -n 1 <<<"$o")"
-  fi
-}
 printf '1 0 0 0 0 0 0 1\n2 0 0 0 0 0 1\n' > "$tmp/bad.tum"
-expect "$tmp/bad.tum:2: TUM pose has 7 fields" -- "$mcvio" eval --gt "$tmp/seq" --est "$tmp/bad.tum" --out "$tmp/r2"
-expect "$tmp/none: no such file" -- "$mcvio" eval --gt "$tmp/none" --est "$tmp/ref" --out "$tmp/r2"
-expect "no trajectory.tum" -- "$mcvio" eval --gt "$tmp/seq" --est "$tmp/seq" --out "$tmp/r2"
+expect 2 "$tmp/bad.tum:2: TUM pose has 7 fields" -- "$mcvio" eval --gt "$tmp/seq" --est "$tmp/bad.tum" --out "$tmp/r2"
+expect 2 "$tmp/none: no such file" -- "$mcvio" eval --gt "$tmp/none" --est "$tmp/ref" --out "$tmp/r2"
+expect 2 "no trajectory.tum" -- "$mcvio" eval --gt "$tmp/seq" --est "$tmp/seq" --out "$tmp/r2"
 printf 'timestamp_ns,state\n1000000000,maybe\n' > "$tmp/ref/conflict.csv"
-expect "$tmp/ref/conflict.csv:2: column 'state'" -- "$mcvio" eval --gt "$tmp/seq" --est "$tmp/ref" --out "$tmp/r2"
+expect 2 "$tmp/ref/conflict.csv:2: column 'state'" -- "$mcvio" eval --gt "$tmp/seq" --est "$tmp/ref" --out "$tmp/r2"
 rm "$tmp/ref/conflict.csv"
-expect "baseline 'okvis'" -- "$mcvio" eval --gt "$tmp/seq" --est "$tmp/ref" --baseline okvis --out "$tmp/r2"
+expect 2 "baseline 'okvis'" -- "$mcvio" eval --gt "$tmp/seq" --est "$tmp/ref" --baseline okvis --out "$tmp/r2"
 exit $failed
