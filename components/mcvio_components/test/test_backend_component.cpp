@@ -23,6 +23,7 @@
 #include "mcvio/estimator/sliding_window_estimator.hpp"
 #include "mcvio/pipeline/offline_run.hpp"
 #include "mcvio/sim/simulator.hpp"
+#include "component_test_support.hpp"
 
 using namespace mcvio;
 using namespace std::chrono_literals;
@@ -32,17 +33,8 @@ namespace {
 using Odometry = nav_msgs::msg::dds_::Odometry_;
 using components::stampOf;
 
-std::string excerpt() {
-  const char* shared = std::getenv("MCVIO_SHARED_DIR");
-  const std::string dir = std::string(shared ? shared : "") + "/data/euroc_V1_01_excerpt";
-  return std::filesystem::exists(dir + "/mav0") ? dir : "";
-}
-
-mcvio::dds::ParticipantOptions participantOptions(int salt) {
-  mcvio::dds::ParticipantOptions po;
-  po.domain_id = 100 + static_cast<int>((getpid() + salt) % 100);
-  return po;
-}
+using components::test::excerptDir;
+using components::test::testParticipantOptions;
 
 struct Pose {
   Timestamp t = 0;
@@ -94,7 +86,7 @@ bool waitUntil(Pred pred, std::chrono::seconds timeout) {
 // against the estimator fed offline with the same feature frames; returns the DDS poses.
 std::vector<Pose> runOverDdsAndCheckTheEstimatorStage(const std::string& dir, int salt) {
   const auto data = dataset::EurocDataset::open(dir);
-  auto participant = mcvio::dds::Participant::create(participantOptions(salt));
+  auto participant = mcvio::dds::Participant::create(testParticipantOptions(salt));
 
   std::mutex m;
   std::vector<Pose> odometry;
@@ -137,7 +129,7 @@ std::vector<Pose> runOverDdsAndCheckTheEstimatorStage(const std::string& dir, in
         statics = t.transforms();
       });
 
-  auto player_participant = mcvio::dds::Participant::create(participantOptions(salt));
+  auto player_participant = mcvio::dds::Participant::create(testParticipantOptions(salt));
   components::PlayerOptions po;
   po.lossless = true;
   po.progress = false;
@@ -228,7 +220,7 @@ void compareWithOfflineRun(const std::string& dir, const std::vector<Pose>& odom
 // VioPipeline feeds back. Different predictions move KLT's result by sub-pixel amounts. The
 // estimator stage itself matches to 1e-6 (checked inside).
 TEST(BackendComponent, LosslessPipelineOnTheRealExcerptGivesTheOfflineEstimatorsPoses) {
-  const auto dir = excerpt();
+  const auto dir = excerptDir();
   if (dir.empty()) GTEST_SKIP() << "no ../shared/data/euroc_V1_01_excerpt";
   const auto odometry = runOverDdsAndCheckTheEstimatorStage(dir, 43);
   // Measured 7.8e-5 m, 8.9e-5 rad (device at rest).
@@ -253,9 +245,9 @@ TEST(BackendComponent, LosslessPipelineOnAMovingSimulatedSequenceGivesTheOffline
 
 
 TEST(BackendComponent, BadInputIsSkippedAndNoPoseComesBeforeInitialisation) {
-  const auto dir = excerpt();
+  const auto dir = excerptDir();
   if (dir.empty()) GTEST_SKIP() << "no ../shared/data/euroc_V1_01_excerpt (calibration)";
-  auto participant = mcvio::dds::Participant::create(participantOptions(67));
+  auto participant = mcvio::dds::Participant::create(testParticipantOptions(67));
   std::atomic<int> poses{0};
   auto listener = participant->createNode("listener");
   auto odom_sub = listener->createSubscription<Odometry>("/mcvio/odometry", mcvio::dds::QosProfile::lossless(),

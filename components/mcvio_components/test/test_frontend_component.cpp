@@ -10,31 +10,23 @@
 #include "mcvio/components/frontend_component.hpp"
 #include "mcvio/components/player.hpp"
 #include "mcvio/components/ros_conversions.hpp"
+#include "component_test_support.hpp"
 
 using namespace mcvio;
 using namespace std::chrono_literals;
 
 namespace {
 
-std::string excerpt() {
-  const char* shared = std::getenv("MCVIO_SHARED_DIR");
-  const std::string dir = std::string(shared ? shared : "") + "/data/euroc_V1_01_excerpt";
-  return std::filesystem::exists(dir + "/mav0") ? dir : "";
-}
-
-mcvio::dds::ParticipantOptions options(int salt) {
-  mcvio::dds::ParticipantOptions po;
-  po.domain_id = 100 + static_cast<int>((getpid() + salt) % 100);
-  return po;
-}
+using components::test::excerptDir;
+using components::test::testParticipantOptions;
 
 }  // namespace
 
 TEST(FrontendComponent, RealExcerptGivesAFeatureFramePerPairWithEnoughStereoMatches) {
-  const auto dir = excerpt();
+  const auto dir = excerptDir();
   if (dir.empty()) GTEST_SKIP() << "no ../shared/data/euroc_V1_01_excerpt";
   const auto data = dataset::EurocDataset::open(dir);
-  auto participant = mcvio::dds::Participant::create(options(31));
+  auto participant = mcvio::dds::Participant::create(testParticipantOptions(31));
   std::mutex m;
   std::vector<FeatureFrame> frames;
   auto listener = participant->createNode("listener");
@@ -48,7 +40,7 @@ TEST(FrontendComponent, RealExcerptGivesAFeatureFramePerPairWithEnoughStereoMatc
   fo.lossless = true;
   components::FrontendComponent frontend(participant->createNode("frontend"), fo);
 
-  auto player_participant = mcvio::dds::Participant::create(options(31));
+  auto player_participant = mcvio::dds::Participant::create(testParticipantOptions(31));
   components::PlayerOptions po;
   po.lossless = true;
   po.progress = false;
@@ -84,7 +76,7 @@ TEST(FrontendComponent, RealExcerptGivesAFeatureFramePerPairWithEnoughStereoMatc
 }
 
 TEST(FrontendComponent, WrongEncodingAndMissingCalibrationAreSkippedNotFatal) {
-  auto participant = mcvio::dds::Participant::create(options(61));
+  auto participant = mcvio::dds::Participant::create(testParticipantOptions(61));
   components::FrontendComponentOptions fo;
   fo.lossless = true;  // no calibration_dir: frames are skipped with a message
   components::FrontendComponent frontend(participant->createNode("frontend"), fo);

@@ -16,6 +16,7 @@
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/components/ros_conversions.hpp"
 #include "mcvio/dataset/euroc_writer.hpp"
+#include "component_test_support.hpp"
 
 using namespace mcvio;
 
@@ -24,9 +25,7 @@ namespace {
 /// A participant on a test domain of its own (per process, per test): parallel test runs must
 /// not hear each other.
 std::shared_ptr<mcvio::dds::Participant> testParticipant(int salt) {
-  mcvio::dds::ParticipantOptions po;
-  po.domain_id = 100 + static_cast<int>((getpid() + salt) % 100);
-  return mcvio::dds::Participant::create(po);
+  return mcvio::dds::Participant::create(components::test::testParticipantOptions(salt));
 }
 
 StereoRigCalibration smallRig() {

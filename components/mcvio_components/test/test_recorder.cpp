@@ -12,6 +12,7 @@
 #include "mcvio/components/recorder.hpp"
 #include "mcvio/components/ros_conversions.hpp"
 #include "mcvio/dataset/euroc_writer.hpp"
+#include "component_test_support.hpp"
 
 using namespace mcvio;
 
@@ -57,8 +58,7 @@ class RecorderTest : public ::testing::TestWithParam<std::string> {};
 TEST_P(RecorderTest, RecordsEveryMessageOfALosslessPlaybackByteForByte) {
   const std::string base = ::testing::TempDir() + "/recorder_" + std::to_string(getpid()) + GetParam();
   const auto data = dataset::EurocDataset::open(writeSequence(base + "_seq", 25));
-  mcvio::dds::ParticipantOptions po;
-  po.domain_id = 100 + static_cast<int>((getpid() + 17) % 100);
+  const auto po = components::test::testParticipantOptions(17);
 
   mcvio::dds::GraphMonitor monitor;
   auto rec_participant = mcvio::dds::Participant::create(po, &monitor);

@@ -17,6 +17,7 @@
 #include "mcvio/components/recorder.hpp"
 #include "mcvio/interfaces/message_registry.hpp"
 #include "mcvio/pipeline/offline_run.hpp"
+#include "component_test_support.hpp"
 
 using namespace mcvio;
 
@@ -32,15 +33,13 @@ std::vector<std::string> lines(const std::string& path) {
 }  // namespace
 
 TEST(RunOnBag, RecordedPlaybackGivesTheSameTrajectoryAsTheDataset) {
-  const char* shared = std::getenv("MCVIO_SHARED_DIR");
-  const std::string dir = std::string(shared ? shared : "") + "/data/euroc_V1_01_excerpt";
-  if (!std::filesystem::exists(dir + "/mav0")) GTEST_SKIP() << "no ../shared/data/euroc_V1_01_excerpt";
+  const std::string dir = components::test::excerptDir();
+  if (dir.empty()) GTEST_SKIP() << "no ../shared/data/euroc_V1_01_excerpt";
   const std::string base = ::testing::TempDir() + "/run_on_bag_" + std::to_string(getpid());
   std::filesystem::remove_all(base);
   const auto data = dataset::EurocDataset::open(dir);
 
-  mcvio::dds::ParticipantOptions po;
-  po.domain_id = 100 + static_cast<int>((getpid() + 73) % 100);
+  const auto po = components::test::testParticipantOptions(73);
   mcvio::dds::GraphMonitor monitor;
   auto rec_participant = mcvio::dds::Participant::create(po, &monitor);
   components::RecorderOptions ro;

@@ -57,6 +57,22 @@ pipeline::sequences::RunAccuracy runAndEvaluate(const sim::Simulator& simulator,
   return a;
 }
 
+/// What every clean 60 s run must show: at most kMaxConflictFraction of its frames in conflict,
+/// every frame consumed without a reset, every frame tracked once initialised (which waits for
+/// 1 s of IMU), ATE within kMaxAteM and a position NEES inside (1, max_nees).
+void expectCleanRun(const sim::Simulator& simulator, const pipeline::OfflineRunSummary& s,
+                    const pipeline::sequences::RunAccuracy& a, std::size_t conflict_frames, double max_nees) {
+  EXPECT_LE(static_cast<double>(conflict_frames), kMaxConflictFraction * static_cast<double>(s.frames));
+  EXPECT_EQ(s.frames, simulator.frameTimes().size());
+  EXPECT_EQ(s.resets, 0u);
+  EXPECT_EQ(s.skipped, 0u);
+  EXPECT_GE(a.poses + 25, s.frames);
+  EXPECT_LE(a.ate_pos_yaw_rmse, kMaxAteM);
+  EXPECT_GE(a.nees_frames + 25, s.frames);
+  EXPECT_GT(a.position_nees, 1.0);
+  EXPECT_LT(a.position_nees, max_nees);
+}
+
 /// The rendered office with a conflict: `mcvio sim --scenario KIND --seed SEED --duration
 /// DURATION --onset ONSET --scenario-duration LENGTH`.
 sim::SimulatorOptions renderedScenario(sim::ScenarioKind kind, std::uint64_t seed, double duration_s, double onset_s,
@@ -78,18 +94,9 @@ TEST(OfflineAccuracy, RenderedOffice60sNoneScenario) {
   pipeline::OfflineRunSummary s;
   std::size_t conflict_frames = 0;
   const auto a = runAndEvaluate(simulator, "rendered_none_60s", &s, &conflict_frames);
-  EXPECT_LE(static_cast<double>(conflict_frames), kMaxConflictFraction * static_cast<double>(s.frames));
-  EXPECT_EQ(s.frames, simulator.frameTimes().size());
-  EXPECT_EQ(s.resets, 0u);
-  EXPECT_EQ(s.skipped, 0u);
-  // Initialisation waits for 1 s of IMU; everything after it must be tracked.
-  EXPECT_GE(a.poses + 25, s.frames);
-  EXPECT_LE(a.ate_pos_yaw_rmse, kMaxAteM);
   // Consistent covariance (position NEES in the estimator's gauge, expectation 3): measured 3.72 with
   // the shipped IMU noise x3 and 0.4 px feature noise (1.20 at x6; 0.30 with x6 and 1 px).
-  EXPECT_GE(a.nees_frames + 25, s.frames);
-  EXPECT_GT(a.position_nees, 1.0);
-  EXPECT_LT(a.position_nees, 6.0);
+  expectCleanRun(simulator, s, a, conflict_frames, 6.0);
 }
 
 TEST(OfflineAccuracy, SemiRealV101First60s) {
@@ -102,19 +109,11 @@ TEST(OfflineAccuracy, SemiRealV101First60s) {
   std::size_t conflict_frames = 0;
   const auto a = runAndEvaluate(simulator, "semi_real_v101_60s", &s, &conflict_frames);
   // The real IMU's takeoff once froze a still-moving bias estimate into the detector's reference
-  // and kept a false conflict open for 90 % of the run.
-  EXPECT_LE(static_cast<double>(conflict_frames), kMaxConflictFraction * static_cast<double>(s.frames));
-  EXPECT_EQ(s.frames, simulator.frameTimes().size());
-  EXPECT_EQ(s.resets, 0u);
-  EXPECT_EQ(s.skipped, 0u);
-  EXPECT_GE(a.poses + 25, s.frames);
-  EXPECT_LE(a.ate_pos_yaw_rmse, kMaxAteM);
+  // and kept a false conflict open for 90 % of the run (the conflict-frame bound below).
   // Consistent with the real IMU: position NEES near its expectation 3 (measured 2.03 with the IMU
   // noise x3, 1.49 at x6). After the whole-run alignment instead it is 29: the alignment shifts the
   // start, where the covariance is mm.
-  EXPECT_GE(a.nees_frames + 25, s.frames);
-  EXPECT_GT(a.position_nees, 1.0);
-  EXPECT_LT(a.position_nees, 10.0);
+  expectCleanRun(simulator, s, a, conflict_frames, 10.0);
 }
 
 // A slow object (`mcvio sim --scenario slow_object --duration 30 --onset 10 --scenario-duration 12
