@@ -58,6 +58,7 @@ void ConflictOptions::validate() const {
   require(frontend_min_count >= 3, "frontend_min_count", "must be >= 3", frontend_min_count);
   require(frontend_min_fraction > 0 && frontend_min_fraction <= 1, "frontend_min_fraction", "must be in (0, 1]",
           frontend_min_fraction);
+  require(frontend_marginal_score >= 1, "frontend_marginal_score", "must be >= 1 (1: off)", frontend_marginal_score);
   require(hold_moving_min_count >= 1, "hold_moving_min_count", "must be >= 1", hold_moving_min_count);
   require(hold_moving_min_fraction > 0 && hold_moving_min_fraction <= 1, "hold_moving_min_fraction",
           "must be in (0, 1]", hold_moving_min_fraction);
@@ -175,6 +176,7 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
   read("frontend_evidence", &o.frontend_evidence);
   read("frontend_min_count", &o.frontend_min_count);
   read("frontend_min_fraction", &o.frontend_min_fraction);
+  read("frontend_marginal_score", &o.frontend_marginal_score);
   read("hold_moving_min_count", &o.hold_moving_min_count);
   read("hold_moving_min_fraction", &o.hold_moving_min_fraction);
   read("frontend_agreement_ends_hold", &o.frontend_agreement_ends_hold);

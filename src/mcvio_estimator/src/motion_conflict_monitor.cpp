@@ -83,6 +83,7 @@ void MotionConflictMonitor::reset() {
   frames_since_imu_exit_ = -1;
   frames_since_interval_ = -1;
   frames_after_conflict_ = -1;
+  frontend_group_run_ = 0;
   tracker_.reset();
   classifier_.clear();
   secondary_.end();
@@ -389,10 +390,17 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     tested = true;
     const double labelled = static_cast<double>(frontend.inconsistent.size());
     const double fraction = labelled / static_cast<double>(frontend.checked);
-    score = std::max(score, std::min(labelled / options_.frontend_min_count, fraction / options_.frontend_min_fraction));
+    const double group_score = std::min(labelled / options_.frontend_min_count, fraction / options_.frontend_min_fraction);
+    score = std::max(score, group_score);
     const bool labelled_group = labelled >= options_.frontend_min_count && fraction >= options_.frontend_min_fraction;
+    frontend_group_run_ = labelled_group ? frontend_group_run_ + 1 : 0;
+    // ConflictOptions::frontend_marginal_score: a group at the minima must show on two frames
+    // before it counts towards opening an interval (inside one it still holds it open).
+    const bool marginal = group_score < options_.frontend_marginal_score && frontend_group_run_ < 2 && !tracker_.inConflict();
     group_seen = group_seen || labelled_group;
-    if (labelled_group && frames_since_reset_ >= options_.warmup_frames) evidence = true;
+    if (labelled_group && !marginal && frames_since_reset_ >= options_.warmup_frames) evidence = true;
+  } else {
+    frontend_group_run_ = 0;
   }
   // Bias-drift detector (ConflictOptions::bias_drift_sigmas): the estimator bending its
   // accelerometer bias to explain an acceleration vision does not see. Not inside an IMU-dominated

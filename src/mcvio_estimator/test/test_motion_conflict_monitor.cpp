@@ -810,6 +810,46 @@ TEST(MotionConflictMonitor, FrontendLabelsDetectAnOccluderWithoutStereo) {
   for (const auto& f : run(laptopScene(), strict, kLaptopFrames)) EXPECT_FALSE(inConflict(f));
 }
 
+// frontend_marginal_score: tracks on an occluding edge slide against the background, and on clean
+// rendered frames 8 of about 190 reached the frontend's minima on two frames in a row (8 of 100
+// here: score 1). Such a group opens an interval only if it stays a third frame; a clear group
+// (16 of 100: score 2) opens one after enter_frames, as before; with the option off (1) the two
+// marginal frames open one too.
+TEST(MotionConflictMonitor, FrontendLabelsAtTheirMinimaOnTwoFramesOpenNoInterval) {
+  constexpr int kFrom = 60;
+  auto scene = [&](int labelled, int frames_labelled) {
+    Scenario sc;
+    sc.points = staticPoints(100, 0, 5);
+    sc.frontend_labels = true;
+    for (int i = 0; i < labelled; ++i) {
+      auto& p = sc.points[static_cast<std::size_t>(i)];
+      p.frontend_inconsistent = true;
+      p.frontend_inconsistent_from_s = frameSeconds(kFrom);
+      p.frontend_consistent_from_s = frameSeconds(kFrom + frames_labelled);
+    }
+    return sc;
+  };
+  auto entry = [](const std::vector<Frame>& frames) { return firstFrame(frames, inConflict); };
+  const conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
+  ASSERT_EQ(o.frontend_min_count, 8);
+  ASSERT_EQ(o.enter_frames, 2);
+  ASSERT_GT(kFrom, o.warmup_frames);
+
+  const auto two = run(scene(8, 2), o, 100);
+  EXPECT_EQ(entry(two), -1);
+  EXPECT_EQ(two[kFrom].decision.report.frontend_inconsistent, 8);
+  for (std::size_t k = 0; k < two.size(); ++k)  // its second frame is evidence: suspected
+    EXPECT_EQ(two[k].decision.report.state,
+              static_cast<int>(k) == kFrom + 1 ? ConflictReport::State::kSuspected : ConflictReport::State::kNone)
+        << "frame " << k;
+  EXPECT_EQ(entry(run(scene(8, 3), o, 100)), kFrom + 2) << "on the marginal group's third frame";
+  EXPECT_EQ(entry(run(scene(16, 2), o, 100)), kFrom + o.enter_frames - 1) << "a clear group as before";
+
+  conflict::ConflictOptions off = o;
+  off.frontend_marginal_score = 1.0;
+  EXPECT_EQ(entry(run(scene(8, 2), off, 100)), kFrom + o.enter_frames - 1);
+}
+
 TEST(MotionConflictMonitor, FrontendLabelsEliminateAFewTracksOutsideAnyInterval) {
   // A walker entering the view: 4 of 84 tracks labelled, too few to be evidence of a conflict.
   Scenario sc;

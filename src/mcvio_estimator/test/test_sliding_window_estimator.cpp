@@ -299,6 +299,7 @@ TEST(EstimatorOptions, LoadsFromYamlAndNamesBadKeys) {
   expectError("conflict:\n  frontend_agreement_ends_hold: maybe\n", "frontend_agreement_ends_hold");
   expectError("conflict:\n  frontend_min_count: 2\n", "frontend_min_count");
   expectError("conflict:\n  frontend_min_fraction: 1.5\n", "frontend_min_fraction");
+  expectError("conflict:\n  frontend_marginal_score: 0.5\n", "frontend_marginal_score");
   expectError("conflict:\n  frontend_evidence: maybe\n", "frontend_evidence");
   expectError("conflict:\n  bias_drift_sigmas: -1\n", "bias_drift_sigmas");
   expectError("conflict:\n  split_chi2_threshold: -60\n", "split_chi2_threshold");
@@ -358,6 +359,7 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_EQ(c.frontend_evidence, dc.frontend_evidence);
   EXPECT_EQ(c.frontend_min_count, dc.frontend_min_count);
   EXPECT_DOUBLE_EQ(c.frontend_min_fraction, dc.frontend_min_fraction);
+  EXPECT_DOUBLE_EQ(c.frontend_marginal_score, dc.frontend_marginal_score);
   EXPECT_DOUBLE_EQ(c.bias_drift_sigmas, dc.bias_drift_sigmas);
   EXPECT_EQ(c.bias_drift_arm_frames, dc.bias_drift_arm_frames);
   EXPECT_EQ(c.bias_drift_min_frames, dc.bias_drift_min_frames);
@@ -377,7 +379,7 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_DOUBLE_EQ(c.smoothing_registration_tolerance_m, dc.smoothing_registration_tolerance_m);
   EXPECT_DOUBLE_EQ(c.smoothing_registration_min_fraction, dc.smoothing_registration_min_fraction);
   EXPECT_DOUBLE_EQ(c.smoothing_registration_max_ambiguity, dc.smoothing_registration_max_ambiguity);
-  EXPECT_EQ(root["conflict"].size(), 76u) << "every conflict option appears once";
+  EXPECT_EQ(root["conflict"].size(), 77u) << "every conflict option appears once";
 }
 
 }  // namespace

@@ -172,6 +172,7 @@ class MotionConflictMonitor {
   /// cabin's tracks are all eliminated; held selective, the window lost every landmark: 11.6 m).
   bool split_group_seen_ = false;
   int split_run_ = 0;  ///< consecutive frames the split fired beside a side that agrees with the IMU
+  int frontend_group_run_ = 0;  ///< consecutive frames with a labelled group (frontend_marginal_score)
   /// Frame index (frame_index_ counts process() calls in selective and auto) at which each track
   /// last disagreed (a landmark verdict, the test of moving tracks against the others' motion,
   /// the frontend's label), kept for horizon_frames frames or until the frontend finds it
