@@ -80,12 +80,14 @@ struct ConflictOptions {
   bool frontend_evidence = true;
   int frontend_min_count = 8;
   double frontend_min_fraction = 0.04;
-  /// A labelled group under this score (the lesser of its count / frontend_min_count and its share
-  /// / frontend_min_fraction) is evidence only from its second frame in a row, so it opens an
-  /// interval on its third (inside an open interval it counts from its first). Tracks on an occluding edge slide along the background, and on clean
-  /// frames a few of them reach the minima for a frame or two (the rendered elevators of seeds 5
-  /// and 9: 8 of 184-193 tracks on two frames, then 3-7, opened false intervals of 6-8 frames). A
-  /// conflicting object's group stays: a carried laptop scores 7 from its first frame. 1: off.
+  /// A labelled group under this score (the lesser of its count / frontend_min_count and its
+  /// share / frontend_min_fraction) is evidence only from its second frame in a row, so it opens
+  /// an interval on its third (inside an open interval it counts from its first). Tracks on an
+  /// occluding edge slide along the background, and on clean frames a few of them reach the minima
+  /// for a frame or two (the rendered elevators of seeds 5 and 9: 8 of 184-193 tracks on two
+  /// frames, then 3-7, opened false intervals of 6-8 frames). A conflicting object's group grows:
+  /// a carried laptop's first labelled frame can be marginal (8 of 47 checked), its second scores
+  /// 16, so its interval opens one frame later than without this. 1: off.
   double frontend_marginal_score = 1.5;
   /// Region-split detector (RegionSplitDetector): the image of frame k cut at the quartiles and
   /// the median of x and y, the two sides' vision-only motions compared (6-dof chi-square). Above
