@@ -48,9 +48,6 @@ void EstimatorOptions::validate() const {
   require(min_depth_m > 0, "min_depth_m", "must be > 0", min_depth_m);
   require(max_depth_m > min_depth_m, "max_depth_m", "must be > min_depth_m", max_depth_m);
   require(min_stereo_disparity_px >= 0, "min_stereo_disparity_px", "must be >= 0", min_stereo_disparity_px);
-  require(mono_min_parallax_deg > 0 && mono_min_parallax_deg < 90, "mono_min_parallax_deg", "must be in (0, 90)",
-          mono_min_parallax_deg);
-  require(mono_min_observations >= 2, "mono_min_observations", "must be >= 2", mono_min_observations);
   require(gravity_magnitude > 0, "gravity_magnitude", "must be > 0", gravity_magnitude);
   require(imu_noise_inflation > 0, "imu_noise_inflation", "must be > 0", imu_noise_inflation);
   require(imu_random_walk_inflation > 0, "imu_random_walk_inflation", "must be > 0", imu_random_walk_inflation);
@@ -126,9 +123,6 @@ EstimatorOptions EstimatorOptions::fromYaml(const YAML::Node& node, const std::s
   read(node, "max_depth_m", &o.max_depth_m, c);
   read(node, "min_stereo_disparity_px", &o.min_stereo_disparity_px, c);
   read(node, "right_camera_in_all_frames", &o.right_camera_in_all_frames, c);
-  read(node, "mono_landmarks", &o.mono_landmarks, c);
-  read(node, "mono_min_parallax_deg", &o.mono_min_parallax_deg, c);
-  read(node, "mono_min_observations", &o.mono_min_observations, c);
   read(node, "gravity_magnitude", &o.gravity_magnitude, c);
   read(node, "imu_noise_inflation", &o.imu_noise_inflation, c);
   read(node, "imu_random_walk_inflation", &o.imu_random_walk_inflation, c);

@@ -56,7 +56,6 @@ Eigen::Vector3d stdDev(const std::vector<Eigen::Vector3d>& v) {
 }
 
 constexpr const char* kLog = "[mcvio_estimator] ";
-constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
 
 }  // namespace
 
@@ -508,73 +507,6 @@ void SlidingWindowEstimator::createLandmarks(Frame& frame, int* created) {
     landmarks_.emplace(track, lm);
     ++*created;
   }
-  if (!options_.mono_landmarks) return;
-  for (const auto& [track, n0] : frame.cam0) {
-    if (landmarks_.count(track) != 0 || monitor_->isEliminated(track)) continue;
-    const Frame* anchor = nullptr;
-    double depth = 0;
-    if (!triangulateMono(track, &anchor, &depth)) continue;
-    const Eigen::Vector2d& na = anchor->cam0.at(track);
-    Landmark lm;
-    lm.track_id = track;
-    lm.anchor_frame = anchor->id;
-    lm.created = frame.t;
-    placeLandmark(lm);
-    lm.param[0] = na.x();
-    lm.param[1] = na.y();
-    lm.param[2] = 1.0 / depth;
-    landmarks_.emplace(track, lm);
-    ++*created;
-  }
-}
-
-bool SlidingWindowEstimator::triangulateMono(std::uint64_t track, const Frame** anchor, double* depth) const {
-  struct Ray {
-    const Frame* frame;
-    Eigen::Vector3d origin, dir;  // world
-    Eigen::Isometry3d T_CW;
-  };
-  std::vector<Ray> rays;
-  for (const auto& f : frames_) {
-    const auto it = f->cam0.find(track);
-    if (it == f->cam0.end()) continue;
-    Eigen::Isometry3d T_WB = Eigen::Isometry3d::Identity();
-    T_WB.linear() = Eigen::Map<const Eigen::Quaterniond>(f->pose.data() + 3).toRotationMatrix();
-    T_WB.translation() = Eigen::Map<const Eigen::Vector3d>(f->pose.data());
-    const Eigen::Isometry3d T_WC = T_WB * T_BC0_;
-    rays.push_back({f.get(), T_WC.translation(), (T_WC.linear() * Eigen::Vector3d(it->second.x(), it->second.y(), 1.0)).normalized(),
-                    T_WC.inverse()});
-  }
-  if (static_cast<int>(rays.size()) < options_.mono_min_observations) return false;
-  const Ray& a = rays.front();
-  const Ray* best = nullptr;
-  double best_cos = std::cos(options_.mono_min_parallax_deg * kDegToRad);
-  for (std::size_t i = 1; i < rays.size(); ++i) {
-    const double c = a.dir.dot(rays[i].dir);
-    if (c < best_cos) {
-      best_cos = c;
-      best = &rays[i];
-    }
-  }
-  if (best == nullptr) return false;
-  // da * a.dir - db * best.dir = best.origin - a.origin, least squares in (da, db).
-  Eigen::Matrix<double, 3, 2> A;
-  A.col(0) = a.dir;
-  A.col(1) = -best->dir;
-  const Eigen::Vector2d d = A.colPivHouseholderQr().solve(best->origin - a.origin);
-  if (!(d[0] > 0 && d[1] > 0)) return false;
-  const Eigen::Vector3d p_W = a.origin + d[0] * a.dir;
-  const Eigen::Vector3d p_Ca = a.T_CW * p_W;
-  if (!(p_Ca.z() > options_.min_depth_m && p_Ca.z() < options_.max_depth_m)) return false;
-  for (const Ray& r : rays) {
-    const Eigen::Vector3d p_C = r.T_CW * p_W;
-    if (!(p_C.z() > options_.min_depth_m)) return false;
-    const Eigen::Vector2d& n = r.frame->cam0.at(track);
-    if ((p_C.head<2>() / p_C.z() - n).norm() * focal_px_ > options_.outlier_threshold_px) return false;
-  }
-  *anchor = a.frame;
-  *depth = p_Ca.z();
-  return true;
 }
 
 bool SlidingWindowEstimator::decideKeyframe(const Frame& frame) const {

@@ -33,12 +33,6 @@ struct EstimatorOptions {
   /// Right-camera observations enter in every frame (true) or only in a landmark's anchor frame,
   /// where they fix its depth (false: about half the visual residuals, faster).
   bool right_camera_in_all_frames = true;
-  /// Tracks without a stereo depth (seen by cam0 only, or too far for the baseline) become
-  /// landmarks once the window's own motion triangulates them: where a near object hides the right
-  /// camera's view, they are the only static structure left.
-  bool mono_landmarks = true;
-  double mono_min_parallax_deg = 3.0;        ///< angle between the two most distant rays of a track
-  int mono_min_observations = 3;             ///< cam0 observations in the window, all within outlier_threshold_px
 
   // IMU. Multiplying the datasheet densities absorbs unmodelled effects on real sensors.
   double gravity_magnitude = 9.81;           ///< [m/s^2], world z up

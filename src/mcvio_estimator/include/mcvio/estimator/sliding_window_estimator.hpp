@@ -153,9 +153,6 @@ class SlidingWindowEstimator {
   Frame& newest() { return *frames_.back(); }
   void createLandmarks(Frame& frame, int* created);
   bool triangulateStereo(const Eigen::Vector2d& n0, const Eigen::Vector2d& n1, double* depth) const;
-  /// Depth of `track` in the oldest window frame that sees it in cam0 (`anchor`), from the window's
-  /// poses; false without enough parallax or when an observation disagrees.
-  bool triangulateMono(std::uint64_t track, const Frame** anchor, double* depth) const;
   bool decideKeyframe(const Frame& frame) const;
   bool detectZeroVelocity(const Frame& prev, const Frame& cur) const;
   void repropagateImu();
