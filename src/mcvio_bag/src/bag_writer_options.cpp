@@ -3,11 +3,11 @@
 #include <yaml-cpp/yaml.h>
 
 #include <fstream>
-#include <set>
 #include <sstream>
 #include <stdexcept>
 
 #include "mcvio/core/input_error.hpp"
+#include "mcvio/core/yaml_fields.hpp"
 #include "mcvio/core/yaml_file.hpp"
 
 namespace mcvio::bag {
@@ -30,48 +30,33 @@ void BagWriterOptions::validate() const {
 BagWriterOptions BagWriterOptions::fromYaml(const std::string& yaml, const std::string& source) {
   const YAML::Node root = parseYamlText(yaml, source);
   BagWriterOptions o;
-  if (root.IsNull()) return o;
-  if (!root.IsMap()) throw InputError(source + ": bag writer options must be a YAML map");
-  static const std::set<std::string> known = {"storage",
-                                              "compression",
-                                              "compression_level",
-                                              "chunk_size",
-                                              "max_bagfile_size",
-                                              "max_bagfile_duration",
-                                              "fsync",
-                                              "crc",
-                                              "ros_distro",
-                                              "custom_data"};
-  for (const auto& kv : root) {
-    const auto key = kv.first.as<std::string>();
-    if (known.count(key) == 0) throw InputError(source + ": unknown key '" + key + "'");
-  }
-  std::string key;
   try {
-    key = "storage";
-    if (root[key]) o.storage = root[key].as<std::string>();
-    key = "compression";
-    if (root[key]) o.compression = compressionFromString(root[key].as<std::string>());
-    key = "compression_level";
-    if (root[key]) o.compression_level = root[key].as<int>();
-    key = "chunk_size";
-    if (root[key]) o.chunk_size = root[key].as<std::uint64_t>();
-    key = "max_bagfile_size";
-    if (root[key]) o.max_bagfile_size = root[key].as<std::uint64_t>();
-    key = "max_bagfile_duration";
-    if (root[key]) o.max_bagfile_duration = fromSeconds(root[key].as<double>());
-    key = "fsync";
-    if (root[key]) o.fsync = root[key].as<bool>();
-    key = "crc";
-    if (root[key]) o.crc = root[key].as<bool>();
-    key = "ros_distro";
-    if (root[key]) o.ros_distro = root[key].as<std::string>();
-    key = "custom_data";
-    if (root[key]) o.custom_data = root[key].as<std::map<std::string, std::string>>();
-  } catch (const YAML::Exception& e) {
-    throw InputError(source + ": key '" + key + "': " + e.msg);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(source + ": key '" + key + "': " + e.what());
+    YamlFields f(root, "", "key");
+    f.get("storage", &o.storage);
+    std::string compression;
+    f.get("compression", &compression);
+    if (!compression.empty()) {
+      try {
+        o.compression = compressionFromString(compression);
+      } catch (const std::invalid_argument& e) {
+        throw InputError(std::string("key 'compression': ") + e.what());
+      }
+    }
+    f.get("compression_level", &o.compression_level);
+    f.get("chunk_size", &o.chunk_size);
+    f.get("max_bagfile_size", &o.max_bagfile_size);
+    if (f.has("max_bagfile_duration")) {
+      double seconds = 0;
+      f.get("max_bagfile_duration", &seconds);
+      o.max_bagfile_duration = fromSeconds(seconds);
+    }
+    f.get("fsync", &o.fsync);
+    f.get("crc", &o.crc);
+    f.get("ros_distro", &o.ros_distro);
+    f.get("custom_data", &o.custom_data);
+    f.rejectUnknown();
+  } catch (const InputError& e) {
+    throw InputError(source + ": " + e.what());
   }
   try {
     o.validate();

@@ -1,12 +1,11 @@
 #include "mcvio/conflict/conflict_options.hpp"
 
 #include <cmath>
-#include <set>
-#include <sstream>
 
 #include <yaml-cpp/yaml.h>
 
 #include "mcvio/core/input_error.hpp"
+#include "mcvio/core/yaml_fields.hpp"
 
 namespace mcvio::conflict {
 
@@ -32,11 +31,8 @@ ResolutionMode resolutionModeFromString(const std::string& text, const std::stri
 
 namespace {
 
-void require(bool ok, const char* key, const std::string& what, double value) {
-  if (ok && std::isfinite(value)) return;
-  std::ostringstream os;
-  os << "conflict option '" << key << "' " << what << " (got " << value << ")";
-  throw InputError(os.str());
+void require(bool ok, const char* key, const std::string& rule, double value) {
+  requireOption(ok, "conflict option", key, rule, value);
 }
 
 }  // namespace
@@ -143,103 +139,88 @@ void ConflictOptions::validate() const {
 
 ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::string& context) {
   ConflictOptions o;
-  if (!node || node.IsNull()) return o;
-  if (!node.IsMap()) throw InputError(context + ": the conflict section must be a map");
-  std::set<std::string> known;
-  auto read = [&](const char* key, auto* value) {
-    known.insert(key);
-    const YAML::Node v = node[key];
-    if (!v) return;
-    try {
-      *value = v.as<std::remove_pointer_t<decltype(value)>>();
-    } catch (const YAML::Exception& e) {
-      throw InputError(context + ": key 'conflict." + key + "' has an invalid value (" + e.what() + ")");
-    }
-  };
-  std::string mode = toString(o.mode);
-  read("mode", &mode);
-  o.mode = resolutionModeFromString(mode, context + ": key 'conflict.mode'");
-  read("horizon_frames", &o.horizon_frames);
-  read("observation_sigma_px", &o.observation_sigma_px);
-  read("stereo_sigma_px", &o.stereo_sigma_px);
-  read("velocity_sigma_mps", &o.velocity_sigma_mps);
-  read("attitude_sigma_rad", &o.attitude_sigma_rad);
-  read("accel_bias_sigma", &o.accel_bias_sigma);
-  read("gyro_bias_sigma", &o.gyro_bias_sigma);
-  read("propagated_chi2_threshold", &o.propagated_chi2_threshold);
-  read("landmark_chi2_threshold", &o.landmark_chi2_threshold);
-  read("min_landmarks_tested", &o.min_landmarks_tested);
-  read("partial_min_count", &o.partial_min_count);
-  read("partial_min_fraction", &o.partial_min_fraction);
-  read("min_coherence", &o.min_coherence);
-  read("coherence_sigma_m", &o.coherence_sigma_m);
-  read("frontend_evidence", &o.frontend_evidence);
-  read("frontend_min_count", &o.frontend_min_count);
-  read("frontend_min_fraction", &o.frontend_min_fraction);
-  read("frontend_marginal_score", &o.frontend_marginal_score);
-  read("hold_moving_min_count", &o.hold_moving_min_count);
-  read("hold_moving_min_fraction", &o.hold_moving_min_fraction);
-  read("frontend_agreement_ends_hold", &o.frontend_agreement_ends_hold);
-  read("whole_view_fraction", &o.whole_view_fraction);
-  read("warmup_frames", &o.warmup_frames);
-  read("bias_reference_lag_frames", &o.bias_reference_lag_frames);
-  read("bias_reference_max_change_sigmas", &o.bias_reference_max_change_sigmas);
-  read("split_chi2_threshold", &o.split_chi2_threshold);
-  read("split_min_frames", &o.split_min_frames);
-  read("bias_drift_sigmas", &o.bias_drift_sigmas);
-  read("bias_drift_arm_frames", &o.bias_drift_arm_frames);
-  read("bias_drift_min_frames", &o.bias_drift_min_frames);
-  read("bias_drift_fast_factor", &o.bias_drift_fast_factor);
-  read("bias_drift_fast_frames", &o.bias_drift_fast_frames);
-  read("bias_drift_long_frames", &o.bias_drift_long_frames);
-  read("bias_drift_long_sigmas", &o.bias_drift_long_sigmas);
-  read("enter_frames", &o.enter_frames);
-  read("exit_frames", &o.exit_frames);
-  read("exit_quiet_frames", &o.exit_quiet_frames);
-  read("exit_quiet_score", &o.exit_quiet_score);
-  read("onset_min_score", &o.onset_min_score);
-  read("onset_lookback_frames", &o.onset_lookback_frames);
-  read("selective_strikes", &o.selective_strikes);
-  read("use_frontend_labels", &o.use_frontend_labels);
-  read("frontend_labels_outside_conflicts", &o.frontend_labels_outside_conflicts);
-  read("frontend_labels_outside_min_count", &o.frontend_labels_outside_min_count);
-  read("frontend_labels_after_conflict_frames", &o.frontend_labels_after_conflict_frames);
-  read("new_landmark_probation", &o.new_landmark_probation);
-  read("probation_agreeing_tests", &o.probation_agreeing_tests);
-  read("auto_min_static_landmarks", &o.auto_min_static_landmarks);
-  read("auto_min_tested_landmarks", &o.auto_min_tested_landmarks);
-  read("thin_view_bias_hold_landmarks", &o.thin_view_bias_hold_landmarks);
-  read("thin_view_bias_hold_usable_tracks", &o.thin_view_bias_hold_usable_tracks);
-  read("split_bias_hold", &o.split_bias_hold);
-  read("vision_depth_weighting", &o.vision_depth_weighting);
-  read("auto_split_fraction", &o.auto_split_fraction);
-  read("rewind_on_entry", &o.rewind_on_entry);
-  read("rewind_frames", &o.rewind_frames);
-  read("keep_consistent_rotation", &o.keep_consistent_rotation);
-  read("rotation_chi2_threshold", &o.rotation_chi2_threshold);
-  read("exit_velocity_frames", &o.exit_velocity_frames);
-  read("exit_velocity_frames_after_hold", &o.exit_velocity_frames_after_hold);
-  read("hold_min_secondary_speed_mps", &o.hold_min_secondary_speed_mps);
-  read("hold_secondary_speed_fraction", &o.hold_secondary_speed_fraction);
-  read("hold_max_speed_gain", &o.hold_max_speed_gain);
-  read("smoothing_enabled", &o.smoothing_enabled);
-  read("smoothing_settle_frames", &o.smoothing_settle_frames);
-  read("exit_bias_hold_frames", &o.exit_bias_hold_frames);
-  read("restart_on_exit", &o.restart_on_exit);
-  read("restart_min_velocity_jump_mps", &o.restart_min_velocity_jump_mps);
-  read("smoothing_max_acceleration_correction", &o.smoothing_max_acceleration_correction);
-  read("smoothing_held_acceleration_sigma", &o.smoothing_held_acceleration_sigma);
-  read("smoothing_reidentified_min_landmarks", &o.smoothing_reidentified_min_landmarks);
-  read("smoothing_settled_velocity_sigma", &o.smoothing_settled_velocity_sigma);
-  read("smoothing_registration_radius_m", &o.smoothing_registration_radius_m);
-  read("smoothing_registration_tolerance_m", &o.smoothing_registration_tolerance_m);
-  read("smoothing_registration_min_fraction", &o.smoothing_registration_min_fraction);
-  read("smoothing_registration_max_ambiguity", &o.smoothing_registration_max_ambiguity);
-  for (const auto& kv : node) {
-    const std::string key = kv.first.as<std::string>();
-    if (known.count(key) == 0) throw InputError(context + ": unknown conflict option '" + key + "'");
-  }
   try {
+    YamlFields f(node, "", "conflict option");
+    std::string mode = toString(o.mode);
+    f.get("mode", &mode);
+    o.mode = resolutionModeFromString(mode, "conflict option 'mode'");
+    f.get("horizon_frames", &o.horizon_frames);
+    f.get("observation_sigma_px", &o.observation_sigma_px);
+    f.get("stereo_sigma_px", &o.stereo_sigma_px);
+    f.get("velocity_sigma_mps", &o.velocity_sigma_mps);
+    f.get("attitude_sigma_rad", &o.attitude_sigma_rad);
+    f.get("accel_bias_sigma", &o.accel_bias_sigma);
+    f.get("gyro_bias_sigma", &o.gyro_bias_sigma);
+    f.get("propagated_chi2_threshold", &o.propagated_chi2_threshold);
+    f.get("landmark_chi2_threshold", &o.landmark_chi2_threshold);
+    f.get("min_landmarks_tested", &o.min_landmarks_tested);
+    f.get("partial_min_count", &o.partial_min_count);
+    f.get("partial_min_fraction", &o.partial_min_fraction);
+    f.get("min_coherence", &o.min_coherence);
+    f.get("coherence_sigma_m", &o.coherence_sigma_m);
+    f.get("frontend_evidence", &o.frontend_evidence);
+    f.get("frontend_min_count", &o.frontend_min_count);
+    f.get("frontend_min_fraction", &o.frontend_min_fraction);
+    f.get("frontend_marginal_score", &o.frontend_marginal_score);
+    f.get("hold_moving_min_count", &o.hold_moving_min_count);
+    f.get("hold_moving_min_fraction", &o.hold_moving_min_fraction);
+    f.get("frontend_agreement_ends_hold", &o.frontend_agreement_ends_hold);
+    f.get("whole_view_fraction", &o.whole_view_fraction);
+    f.get("warmup_frames", &o.warmup_frames);
+    f.get("bias_reference_lag_frames", &o.bias_reference_lag_frames);
+    f.get("bias_reference_max_change_sigmas", &o.bias_reference_max_change_sigmas);
+    f.get("split_chi2_threshold", &o.split_chi2_threshold);
+    f.get("split_min_frames", &o.split_min_frames);
+    f.get("bias_drift_sigmas", &o.bias_drift_sigmas);
+    f.get("bias_drift_arm_frames", &o.bias_drift_arm_frames);
+    f.get("bias_drift_min_frames", &o.bias_drift_min_frames);
+    f.get("bias_drift_fast_factor", &o.bias_drift_fast_factor);
+    f.get("bias_drift_fast_frames", &o.bias_drift_fast_frames);
+    f.get("bias_drift_long_frames", &o.bias_drift_long_frames);
+    f.get("bias_drift_long_sigmas", &o.bias_drift_long_sigmas);
+    f.get("enter_frames", &o.enter_frames);
+    f.get("exit_frames", &o.exit_frames);
+    f.get("exit_quiet_frames", &o.exit_quiet_frames);
+    f.get("exit_quiet_score", &o.exit_quiet_score);
+    f.get("onset_min_score", &o.onset_min_score);
+    f.get("onset_lookback_frames", &o.onset_lookback_frames);
+    f.get("selective_strikes", &o.selective_strikes);
+    f.get("use_frontend_labels", &o.use_frontend_labels);
+    f.get("frontend_labels_outside_conflicts", &o.frontend_labels_outside_conflicts);
+    f.get("frontend_labels_outside_min_count", &o.frontend_labels_outside_min_count);
+    f.get("frontend_labels_after_conflict_frames", &o.frontend_labels_after_conflict_frames);
+    f.get("new_landmark_probation", &o.new_landmark_probation);
+    f.get("probation_agreeing_tests", &o.probation_agreeing_tests);
+    f.get("auto_min_static_landmarks", &o.auto_min_static_landmarks);
+    f.get("auto_min_tested_landmarks", &o.auto_min_tested_landmarks);
+    f.get("thin_view_bias_hold_landmarks", &o.thin_view_bias_hold_landmarks);
+    f.get("thin_view_bias_hold_usable_tracks", &o.thin_view_bias_hold_usable_tracks);
+    f.get("split_bias_hold", &o.split_bias_hold);
+    f.get("vision_depth_weighting", &o.vision_depth_weighting);
+    f.get("auto_split_fraction", &o.auto_split_fraction);
+    f.get("rewind_on_entry", &o.rewind_on_entry);
+    f.get("rewind_frames", &o.rewind_frames);
+    f.get("keep_consistent_rotation", &o.keep_consistent_rotation);
+    f.get("rotation_chi2_threshold", &o.rotation_chi2_threshold);
+    f.get("exit_velocity_frames", &o.exit_velocity_frames);
+    f.get("exit_velocity_frames_after_hold", &o.exit_velocity_frames_after_hold);
+    f.get("hold_min_secondary_speed_mps", &o.hold_min_secondary_speed_mps);
+    f.get("hold_secondary_speed_fraction", &o.hold_secondary_speed_fraction);
+    f.get("hold_max_speed_gain", &o.hold_max_speed_gain);
+    f.get("smoothing_enabled", &o.smoothing_enabled);
+    f.get("smoothing_settle_frames", &o.smoothing_settle_frames);
+    f.get("exit_bias_hold_frames", &o.exit_bias_hold_frames);
+    f.get("restart_on_exit", &o.restart_on_exit);
+    f.get("restart_min_velocity_jump_mps", &o.restart_min_velocity_jump_mps);
+    f.get("smoothing_max_acceleration_correction", &o.smoothing_max_acceleration_correction);
+    f.get("smoothing_held_acceleration_sigma", &o.smoothing_held_acceleration_sigma);
+    f.get("smoothing_reidentified_min_landmarks", &o.smoothing_reidentified_min_landmarks);
+    f.get("smoothing_settled_velocity_sigma", &o.smoothing_settled_velocity_sigma);
+    f.get("smoothing_registration_radius_m", &o.smoothing_registration_radius_m);
+    f.get("smoothing_registration_tolerance_m", &o.smoothing_registration_tolerance_m);
+    f.get("smoothing_registration_min_fraction", &o.smoothing_registration_min_fraction);
+    f.get("smoothing_registration_max_ambiguity", &o.smoothing_registration_max_ambiguity);
+    f.rejectUnknown();
     o.validate();
   } catch (const InputError& e) {
     throw InputError(context + ": " + e.what());

@@ -1,37 +1,19 @@
 #include "mcvio/estimator/estimator_options.hpp"
 
 #include <cmath>
-#include <set>
-#include <sstream>
 
 #include <yaml-cpp/yaml.h>
 
 #include "mcvio/core/input_error.hpp"
+#include "mcvio/core/yaml_fields.hpp"
 #include "mcvio/core/yaml_file.hpp"
 
 namespace mcvio::estimator {
 
 namespace {
 
-thread_local std::set<std::string>* g_known_keys = nullptr;
-
-template <typename T>
-void read(const YAML::Node& node, const char* key, T* value, const std::string& context) {
-  if (g_known_keys != nullptr) g_known_keys->insert(key);
-  const YAML::Node v = node[key];
-  if (!v) return;
-  try {
-    *value = v.as<T>();
-  } catch (const YAML::Exception& e) {
-    throw InputError(context + ": key '" + key + "' has an invalid value (" + e.what() + ")");
-  }
-}
-
-void require(bool ok, const char* key, const std::string& what, double value) {
-  if (ok && std::isfinite(value)) return;
-  std::ostringstream os;
-  os << "estimator option '" << key << "' " << what << " (got " << value << ")";
-  throw InputError(os.str());
+void require(bool ok, const char* key, const std::string& rule, double value) {
+  requireOption(ok, "estimator option", key, rule, value);
 }
 
 }  // namespace
@@ -94,77 +76,73 @@ void EstimatorOptions::validate() const {
 
 EstimatorOptions EstimatorOptions::fromYaml(const YAML::Node& node, const std::string& context) {
   EstimatorOptions o;
-  if (!node || node.IsNull()) return o;
-  if (!node.IsMap()) throw InputError(context + ": estimator options must be a YAML map");
-  const auto& c = context;
-  std::set<std::string> known{"robust_loss", "conflict"};
-  if (node["conflict"]) o.conflict = conflict::ConflictOptions::fromYaml(node["conflict"], context);
-  g_known_keys = &known;
-  read(node, "imu_window_size", &o.imu_window_size, c);
-  read(node, "keyframe_window_size", &o.keyframe_window_size, c);
-  read(node, "keyframe_parallax_px", &o.keyframe_parallax_px, c);
-  read(node, "keyframe_tracked_fraction", &o.keyframe_tracked_fraction, c);
-  read(node, "observation_sigma_px", &o.observation_sigma_px, c);
-  if (node["robust_loss"]) {
-    std::string s;
-    read(node, "robust_loss", &s, c);
-    if (s == "none")
+  YAML::Node conflict_section;
+  try {
+    YamlFields f(node, "", "estimator option");
+    conflict_section = f.child("conflict");
+    f.get("imu_window_size", &o.imu_window_size);
+    f.get("keyframe_window_size", &o.keyframe_window_size);
+    f.get("keyframe_parallax_px", &o.keyframe_parallax_px);
+    f.get("keyframe_tracked_fraction", &o.keyframe_tracked_fraction);
+    f.get("observation_sigma_px", &o.observation_sigma_px);
+    std::string loss;
+    f.get("robust_loss", &loss);
+    if (loss == "none")
       o.robust_loss = RobustLoss::kNone;
-    else if (s == "huber")
+    else if (loss == "huber")
       o.robust_loss = RobustLoss::kHuber;
-    else if (s == "cauchy")
+    else if (loss == "cauchy")
       o.robust_loss = RobustLoss::kCauchy;
-    else
-      throw InputError(c + ": key 'robust_loss' must be none, huber or cauchy (got '" + s + "')");
+    else if (!loss.empty())
+      throw InputError("estimator option 'robust_loss' must be none, huber or cauchy (got '" + loss + "')");
+    f.get("robust_loss_scale_px", &o.robust_loss_scale_px);
+    f.get("outlier_threshold_px", &o.outlier_threshold_px);
+    f.get("min_depth_m", &o.min_depth_m);
+    f.get("max_depth_m", &o.max_depth_m);
+    f.get("min_stereo_disparity_px", &o.min_stereo_disparity_px);
+    f.get("right_camera_in_all_frames", &o.right_camera_in_all_frames);
+    f.get("gravity_magnitude", &o.gravity_magnitude);
+    f.get("imu_noise_inflation", &o.imu_noise_inflation);
+    f.get("imu_random_walk_inflation", &o.imu_random_walk_inflation);
+    f.get("repropagate_gyro_bias_change", &o.repropagate_gyro_bias_change);
+    f.get("repropagate_accel_bias_change", &o.repropagate_accel_bias_change);
+    f.get("max_imu_gap_s", &o.max_imu_gap_s);
+    f.get("max_iterations", &o.max_iterations);
+    f.get("function_tolerance", &o.function_tolerance);
+    f.get("conflict_function_tolerance", &o.conflict_function_tolerance);
+    f.get("stop_on_model_agreement", &o.stop_on_model_agreement);
+    f.get("model_agreement_settle_s", &o.model_agreement_settle_s);
+    f.get("max_solver_time_s", &o.max_solver_time_s);
+    f.get("num_threads", &o.num_threads);
+    f.get("compute_covariance", &o.compute_covariance);
+    f.get("init_window_s", &o.init_window_s);
+    f.get("static_gyro_std_max", &o.static_gyro_std_max);
+    f.get("static_accel_std_max", &o.static_accel_std_max);
+    f.get("init_position_sigma", &o.init_position_sigma);
+    f.get("init_yaw_sigma", &o.init_yaw_sigma);
+    f.get("init_roll_pitch_sigma", &o.init_roll_pitch_sigma);
+    f.get("init_roll_pitch_sigma_moving", &o.init_roll_pitch_sigma_moving);
+    f.get("init_velocity_sigma_static", &o.init_velocity_sigma_static);
+    f.get("init_velocity_sigma_moving", &o.init_velocity_sigma_moving);
+    f.get("init_gyro_bias_sigma_static", &o.init_gyro_bias_sigma_static);
+    f.get("init_gyro_bias_sigma_moving", &o.init_gyro_bias_sigma_moving);
+    f.get("init_accel_bias_sigma", &o.init_accel_bias_sigma);
+    f.get("zero_velocity_enabled", &o.zero_velocity_enabled);
+    f.get("zero_velocity_max_disparity_px", &o.zero_velocity_max_disparity_px);
+    f.get("zero_velocity_gyro_std_max", &o.zero_velocity_gyro_std_max);
+    f.get("zero_velocity_accel_std_max", &o.zero_velocity_accel_std_max);
+    f.get("zero_velocity_sigma", &o.zero_velocity_sigma);
+    f.get("max_speed_mps", &o.max_speed_mps);
+    f.get("max_gyro_bias", &o.max_gyro_bias);
+    f.get("max_accel_bias", &o.max_accel_bias);
+    f.get("max_position_jump_m", &o.max_position_jump_m);
+    f.get("max_time_without_vision_s", &o.max_time_without_vision_s);
+    f.rejectUnknown();
+  } catch (const InputError& e) {
+    throw InputError(context + ": " + e.what());
   }
-  read(node, "robust_loss_scale_px", &o.robust_loss_scale_px, c);
-  read(node, "outlier_threshold_px", &o.outlier_threshold_px, c);
-  read(node, "min_depth_m", &o.min_depth_m, c);
-  read(node, "max_depth_m", &o.max_depth_m, c);
-  read(node, "min_stereo_disparity_px", &o.min_stereo_disparity_px, c);
-  read(node, "right_camera_in_all_frames", &o.right_camera_in_all_frames, c);
-  read(node, "gravity_magnitude", &o.gravity_magnitude, c);
-  read(node, "imu_noise_inflation", &o.imu_noise_inflation, c);
-  read(node, "imu_random_walk_inflation", &o.imu_random_walk_inflation, c);
-  read(node, "repropagate_gyro_bias_change", &o.repropagate_gyro_bias_change, c);
-  read(node, "repropagate_accel_bias_change", &o.repropagate_accel_bias_change, c);
-  read(node, "max_imu_gap_s", &o.max_imu_gap_s, c);
-  read(node, "max_iterations", &o.max_iterations, c);
-  read(node, "function_tolerance", &o.function_tolerance, c);
-  read(node, "conflict_function_tolerance", &o.conflict_function_tolerance, c);
-  read(node, "stop_on_model_agreement", &o.stop_on_model_agreement, c);
-  read(node, "model_agreement_settle_s", &o.model_agreement_settle_s, c);
-  read(node, "max_solver_time_s", &o.max_solver_time_s, c);
-  read(node, "num_threads", &o.num_threads, c);
-  read(node, "compute_covariance", &o.compute_covariance, c);
-  read(node, "init_window_s", &o.init_window_s, c);
-  read(node, "static_gyro_std_max", &o.static_gyro_std_max, c);
-  read(node, "static_accel_std_max", &o.static_accel_std_max, c);
-  read(node, "init_position_sigma", &o.init_position_sigma, c);
-  read(node, "init_yaw_sigma", &o.init_yaw_sigma, c);
-  read(node, "init_roll_pitch_sigma", &o.init_roll_pitch_sigma, c);
-  read(node, "init_roll_pitch_sigma_moving", &o.init_roll_pitch_sigma_moving, c);
-  read(node, "init_velocity_sigma_static", &o.init_velocity_sigma_static, c);
-  read(node, "init_velocity_sigma_moving", &o.init_velocity_sigma_moving, c);
-  read(node, "init_gyro_bias_sigma_static", &o.init_gyro_bias_sigma_static, c);
-  read(node, "init_gyro_bias_sigma_moving", &o.init_gyro_bias_sigma_moving, c);
-  read(node, "init_accel_bias_sigma", &o.init_accel_bias_sigma, c);
-  read(node, "zero_velocity_enabled", &o.zero_velocity_enabled, c);
-  read(node, "zero_velocity_max_disparity_px", &o.zero_velocity_max_disparity_px, c);
-  read(node, "zero_velocity_gyro_std_max", &o.zero_velocity_gyro_std_max, c);
-  read(node, "zero_velocity_accel_std_max", &o.zero_velocity_accel_std_max, c);
-  read(node, "zero_velocity_sigma", &o.zero_velocity_sigma, c);
-  read(node, "max_speed_mps", &o.max_speed_mps, c);
-  read(node, "max_gyro_bias", &o.max_gyro_bias, c);
-  read(node, "max_accel_bias", &o.max_accel_bias, c);
-  read(node, "max_position_jump_m", &o.max_position_jump_m, c);
-  read(node, "max_time_without_vision_s", &o.max_time_without_vision_s, c);
-  g_known_keys = nullptr;
-  // A misspelt key would otherwise silently keep its default.
-  for (const auto& kv : node) {
-    const std::string key = kv.first.as<std::string>();
-    if (known.count(key) == 0) throw InputError(c + ": unknown estimator option '" + key + "'");
-  }
+  // Its errors name the context and the section ("conflict option 'key'").
+  o.conflict = conflict::ConflictOptions::fromYaml(conflict_section, context);
   try {
     o.validate();
   } catch (const InputError& e) {

@@ -3,26 +3,16 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
-#include <functional>
-#include <map>
 
 #include "mcvio/core/input_error.hpp"
+#include "mcvio/core/yaml_fields.hpp"
 #include "mcvio/core/yaml_file.hpp"
 
 namespace mcvio::frontend {
 namespace {
 
 void require(bool ok, const std::string& key, const std::string& rule) {
-  if (!ok) throw InputError("frontend option '" + key + "' " + rule);
-}
-
-template <typename T>
-void readInto(const YAML::Node& value, const std::string& context, const std::string& key, T* out) {
-  try {
-    *out = value.as<T>();
-  } catch (const YAML::Exception&) {
-    throw InputError(context + ": frontend option '" + key + "' has the wrong type");
-  }
+  requireOption(ok, "frontend option", key, rule);
 }
 
 }  // namespace
@@ -76,54 +66,44 @@ void FrontendOptions::validate() const {
 
 FrontendOptions FrontendOptions::fromYaml(const YAML::Node& node, const std::string& context) {
   FrontendOptions o;
-  if (!node || node.IsNull()) return o;
-  if (!node.IsMap()) throw InputError(context + ": frontend options must be a YAML map");
-  using Setter = std::function<void(const YAML::Node&, const std::string&)>;
-  auto bind = [&](auto* field) -> Setter {
-    return [field, &context](const YAML::Node& v, const std::string& key) {
-      readInto(v, context, key, field);
-    };
-  };
-  const std::map<std::string, Setter> setters = {
-      {"max_features", bind(&o.max_features)},
-      {"grid_cols", bind(&o.grid_cols)},
-      {"grid_rows", bind(&o.grid_rows)},
-      {"min_distance_px", bind(&o.min_distance_px)},
-      {"fast_threshold", bind(&o.fast_threshold)},
-      {"fast_min_threshold", bind(&o.fast_min_threshold)},
-      {"border_px", bind(&o.border_px)},
-      {"subpixel_refinement", bind(&o.subpixel_refinement)},
-      {"pyramid_levels", bind(&o.pyramid_levels)},
-      {"check_pyramid_levels", bind(&o.check_pyramid_levels)},
-      {"window_size", bind(&o.window_size)},
-      {"klt_max_iterations", bind(&o.klt_max_iterations)},
-      {"klt_epsilon", bind(&o.klt_epsilon)},
-      {"fb_threshold_px", bind(&o.fb_threshold_px)},
-      {"use_gyro_prediction", bind(&o.use_gyro_prediction)},
-      {"exposure_normalization", bind(&o.exposure_normalization)},
-      {"normalization_block_px", bind(&o.normalization_block_px)},
-      {"max_imu_gap_ns", bind(&o.max_imu_gap_ns)},
-      {"stereo_fb_threshold_px", bind(&o.stereo_fb_threshold_px)},
-      {"stereo_epipolar_threshold_px", bind(&o.stereo_epipolar_threshold_px)},
-      {"stereo_prediction_tolerance_px", bind(&o.stereo_prediction_tolerance_px)},
-      {"min_depth_m", bind(&o.min_depth_m)},
-      {"max_depth_m", bind(&o.max_depth_m)},
-      {"ransac_threshold_px", bind(&o.ransac_threshold_px)},
-      {"ransac_iterations", bind(&o.ransac_iterations)},
-      {"min_tracks_for_check", bind(&o.min_tracks_for_check)},
-      {"ransac_seed", bind(&o.ransac_seed)},
-      {"reidentify_lost_tracks", bind(&o.reidentify_lost_tracks)},
-      {"reidentify_min_age_s", bind(&o.reidentify_min_age_s)},
-      {"reidentify_max_age_s", bind(&o.reidentify_max_age_s)},
-      {"reidentify_max_hamming", bind(&o.reidentify_max_hamming)},
-      {"reidentify_ratio", bind(&o.reidentify_ratio)},
-      {"history_length", bind(&o.history_length)},
-  };
-  for (const auto& kv : node) {
-    const std::string key = kv.first.as<std::string>();
-    const auto it = setters.find(key);
-    if (it == setters.end()) throw InputError(context + ": unknown frontend option '" + key + "'");
-    it->second(kv.second, key);
+  try {
+    YamlFields f(node, "", "frontend option");
+    f.get("max_features", &o.max_features);
+    f.get("grid_cols", &o.grid_cols);
+    f.get("grid_rows", &o.grid_rows);
+    f.get("min_distance_px", &o.min_distance_px);
+    f.get("fast_threshold", &o.fast_threshold);
+    f.get("fast_min_threshold", &o.fast_min_threshold);
+    f.get("border_px", &o.border_px);
+    f.get("subpixel_refinement", &o.subpixel_refinement);
+    f.get("pyramid_levels", &o.pyramid_levels);
+    f.get("check_pyramid_levels", &o.check_pyramid_levels);
+    f.get("window_size", &o.window_size);
+    f.get("klt_max_iterations", &o.klt_max_iterations);
+    f.get("klt_epsilon", &o.klt_epsilon);
+    f.get("fb_threshold_px", &o.fb_threshold_px);
+    f.get("use_gyro_prediction", &o.use_gyro_prediction);
+    f.get("exposure_normalization", &o.exposure_normalization);
+    f.get("normalization_block_px", &o.normalization_block_px);
+    f.get("max_imu_gap_ns", &o.max_imu_gap_ns);
+    f.get("stereo_fb_threshold_px", &o.stereo_fb_threshold_px);
+    f.get("stereo_epipolar_threshold_px", &o.stereo_epipolar_threshold_px);
+    f.get("stereo_prediction_tolerance_px", &o.stereo_prediction_tolerance_px);
+    f.get("min_depth_m", &o.min_depth_m);
+    f.get("max_depth_m", &o.max_depth_m);
+    f.get("ransac_threshold_px", &o.ransac_threshold_px);
+    f.get("ransac_iterations", &o.ransac_iterations);
+    f.get("min_tracks_for_check", &o.min_tracks_for_check);
+    f.get("ransac_seed", &o.ransac_seed);
+    f.get("reidentify_lost_tracks", &o.reidentify_lost_tracks);
+    f.get("reidentify_min_age_s", &o.reidentify_min_age_s);
+    f.get("reidentify_max_age_s", &o.reidentify_max_age_s);
+    f.get("reidentify_max_hamming", &o.reidentify_max_hamming);
+    f.get("reidentify_ratio", &o.reidentify_ratio);
+    f.get("history_length", &o.history_length);
+    f.rejectUnknown();
+  } catch (const InputError& e) {
+    throw InputError(context + ": " + e.what());
   }
   try {
     o.validate();

@@ -8,7 +8,8 @@
 #include <yaml-cpp/yaml.h>
 
 #include "mcvio/sim/simulator.hpp"
-#include "yaml_fields.hpp"
+#include "mcvio/core/yaml_fields.hpp"
+#include "mcvio/core/yaml_file.hpp"
 
 namespace mcvio::sim {
 namespace {
@@ -28,7 +29,7 @@ constexpr Timestamp kNeverTracked = std::numeric_limits<Timestamp>::min();
 
 FeatureSimulatorOptions FeatureSimulatorOptions::fromYaml(const YAML::Node& node) {
   FeatureSimulatorOptions o;
-  detail::YamlFields f(node, "features.");
+  YamlFields f(node, "features.");
   f.get("target_tracks", &o.target_tracks);
   f.get("mean_track_length", &o.mean_track_length);
   f.get("pixel_noise_sigma", &o.pixel_noise_sigma);

@@ -8,13 +8,14 @@
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/dataset/euroc_dataset.hpp"
 #include "mcvio/dataset/euroc_writer.hpp"
-#include "yaml_fields.hpp"
+#include "mcvio/core/yaml_fields.hpp"
+#include "mcvio/core/yaml_file.hpp"
 
 namespace mcvio::sim {
 
 InjectOptions InjectOptions::fromYaml(const YAML::Node& node) {
   InjectOptions o;
-  detail::YamlFields f(node, "");
+  YamlFields f(node, "");
   f.get("input_dir", &o.input_dir);
   f.get("output_dir", &o.output_dir);
   f.get("overwrite", &o.overwrite);
@@ -53,7 +54,7 @@ InjectOptions InjectOptions::fromYaml(const YAML::Node& node) {
 }
 
 InjectOptions InjectOptions::fromYamlFile(const std::string& path) {
-  return detail::loadOptionsFile(path, [](const YAML::Node& node) { return fromYaml(node); });
+  return loadOptionsFile(path, [](const YAML::Node& node) { return fromYaml(node); });
 }
 
 void InjectOptions::validate() const {

@@ -2,20 +2,19 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "yaml_fields.hpp"
+#include "mcvio/core/yaml_fields.hpp"
+#include "mcvio/core/yaml_file.hpp"
 
 namespace mcvio::sim {
 namespace {
 
-void requireRange(bool ok, const std::string& key, const std::string& rule) {
-  if (!ok) throw InputError("option '" + key + "' " + rule);
-}
+void requireRange(bool ok, const std::string& key, const std::string& rule) { requireOption(ok, "option", key, rule); }
 
 }  // namespace
 
 SimulatorOptions SimulatorOptions::fromYaml(const YAML::Node& node) {
   SimulatorOptions o;
-  detail::YamlFields f(node, "");
+  YamlFields f(node, "");
   f.get("output_dir", &o.output_dir);
   f.get("overwrite", &o.overwrite);
   f.get("seed", &o.seed);
@@ -26,7 +25,7 @@ SimulatorOptions SimulatorOptions::fromYaml(const YAML::Node& node) {
   f.get("texture_size", &o.texture_size);
   f.get("calibration_dir", &o.calibration_dir);
 
-  detail::YamlFields sc(f.child("scenario"), "scenario.");
+  YamlFields sc(f.child("scenario"), "scenario.");
   std::string kind = toString(o.scenario.kind);
   sc.get("kind", &kind);
   o.scenario.kind = scenarioKindFromString(kind);
@@ -36,7 +35,7 @@ SimulatorOptions SimulatorOptions::fromYaml(const YAML::Node& node) {
   sc.get("travel_m", &o.scenario.travel_m);
   sc.rejectUnknown();
 
-  detail::YamlFields imu(f.child("imu"), "imu.");
+  YamlFields imu(f.child("imu"), "imu.");
   imu.get("noise", &o.imu_noise_enabled);
   imu.get("rate_hz", &o.imu_noise.rate_hz);
   imu.get("gyroscope_noise_density", &o.imu_noise.gyroscope_noise_density);
@@ -47,14 +46,14 @@ SimulatorOptions SimulatorOptions::fromYaml(const YAML::Node& node) {
   imu.getVector3("initial_accel_bias", &o.initial_accel_bias);
   imu.rejectUnknown();
 
-  detail::YamlFields img(f.child("image"), "image.");
+  YamlFields img(f.child("image"), "image.");
   img.get("noise_sigma", &o.pixel_noise_sigma);
   img.get("gain_drift", &o.gain_drift);
   img.get("gain_period_s", &o.gain_period_s);
   img.get("png_compression", &o.png_compression);
   img.rejectUnknown();
 
-  detail::YamlFields semi(f.child("semi_real"), "semi_real.");
+  YamlFields semi(f.child("semi_real"), "semi_real.");
   semi.get("groundtruth_csv", &o.groundtruth_csv);
   semi.get("imu_csv", &o.imu_csv);
   semi.rejectUnknown();
@@ -65,7 +64,7 @@ SimulatorOptions SimulatorOptions::fromYaml(const YAML::Node& node) {
 }
 
 SimulatorOptions SimulatorOptions::fromYamlFile(const std::string& path) {
-  return detail::loadOptionsFile(path, [](const YAML::Node& node) { return fromYaml(node); });
+  return loadOptionsFile(path, [](const YAML::Node& node) { return fromYaml(node); });
 }
 
 void SimulatorOptions::validate() const {

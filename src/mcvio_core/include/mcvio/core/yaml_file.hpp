@@ -3,6 +3,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "mcvio/core/input_error.hpp"
+
 namespace mcvio {
 
 /// Loads a YAML file for an options or calibration reader. Throws mcvio::InputError naming the
@@ -18,5 +20,17 @@ YAML::Node parseYamlText(const std::string& text, const std::string& source);
 /// mcvio::InputError "<source>:<line>: key 'k' appears twice (first at line n)" for the first
 /// repeated key found anywhere in the tree.
 void rejectDuplicateYamlKeys(const YAML::Node& node, const std::string& source);
+
+/// Loads an options file and parses it with `parse` (an Options::fromYaml): every error names the
+/// file, and YAML syntax errors also the line.
+template <class Parse>
+auto loadOptionsFile(const std::string& path, Parse parse) {
+  const YAML::Node node = loadYamlFile(path, "options file");
+  try {
+    return parse(node);
+  } catch (const InputError& e) {
+    throw InputError(path + ": " + e.what());
+  }
+}
 
 }  // namespace mcvio
