@@ -4,17 +4,12 @@
 
 #include <functional>
 
+#include "input_error_message.hpp"
+
 namespace mcvio {
 namespace {
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::errorOf;
 
 TEST(YamlFields, ReadsPresentKeysAndLeavesAbsentOnesAtTheirDefaults) {
   const YAML::Node node = YAML::Load("count: 7\nscale: 0.5\nname: huber\nflag: true\nv: [1, 2, 3]\nsection: {a: 1}\n");

@@ -6,19 +6,13 @@
 #include <fstream>
 #include <functional>
 
+#include "input_error_message.hpp"
 #include "mcvio/core/input_error.hpp"
 
 namespace mcvio {
 namespace {
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::errorOf;
 
 TEST(YamlFile, ARepeatedKeyIsAnErrorNamingBothLines) {
   const std::string text = "frontend:\n  max_features: 200\n  fast_threshold: 20\n  max_features: 300\n";
