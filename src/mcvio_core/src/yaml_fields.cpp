@@ -7,8 +7,8 @@ namespace mcvio {
 YamlFields::YamlFields(const YAML::Node& node, std::string prefix, std::string what)
     : node_(node), prefix_(std::move(prefix)), what_(std::move(what)) {
   if (node_ && !node_.IsNull() && !node_.IsMap()) {
-    const std::string section = prefix_.empty() ? std::string() : " '" + prefix_.substr(0, prefix_.size() - 1) + "'";
-    throw InputError(what_ + "s" + section + " must be a map of keys");
+    if (prefix_.empty()) throw InputError("expected a map of " + what_ + "s");
+    throw InputError("'" + prefix_.substr(0, prefix_.size() - 1) + "' must be a map of " + what_ + "s");
   }
 }
 

@@ -58,7 +58,8 @@ TEST(YamlFields, ErrorsNameTheKeyWithItsSection) {
   EXPECT_EQ(read("g: [1, x, 2]\n", [&](YamlFields& f) { f.getVector3("g", &v); }),
             "estimator option 'conflict.g': element 1 is not a number");
   EXPECT_EQ(errorOf([] { YamlFields f(YAML::Load("[1, 2]"), "conflict.", "estimator option"); }),
-            "estimator options 'conflict' must be a map of keys");
+            "'conflict' must be a map of estimator options");
+  EXPECT_EQ(errorOf([] { YamlFields f(YAML::Load("just text"), "", "key"); }), "expected a map of keys");
 }
 
 TEST(YamlFields, ANullNodeReadsAsEmpty) {
