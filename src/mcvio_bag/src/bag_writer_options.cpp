@@ -33,9 +33,9 @@ BagWriterOptions BagWriterOptions::fromYaml(const std::string& yaml, const std::
   try {
     YamlFields f(root, "", "key");
     f.get("storage", &o.storage);
-    std::string compression;
-    f.get("compression", &compression);
-    if (!compression.empty()) {
+    if (f.has("compression")) {
+      std::string compression;
+      f.get("compression", &compression);
       try {
         o.compression = compressionFromString(compression);
       } catch (const std::invalid_argument& e) {

@@ -85,16 +85,18 @@ EstimatorOptions EstimatorOptions::fromYaml(const YAML::Node& node, const std::s
     f.get("keyframe_parallax_px", &o.keyframe_parallax_px);
     f.get("keyframe_tracked_fraction", &o.keyframe_tracked_fraction);
     f.get("observation_sigma_px", &o.observation_sigma_px);
-    std::string loss;
-    f.get("robust_loss", &loss);
-    if (loss == "none")
-      o.robust_loss = RobustLoss::kNone;
-    else if (loss == "huber")
-      o.robust_loss = RobustLoss::kHuber;
-    else if (loss == "cauchy")
-      o.robust_loss = RobustLoss::kCauchy;
-    else if (!loss.empty())
-      throw InputError("estimator option 'robust_loss' must be none, huber or cauchy (got '" + loss + "')");
+    if (f.has("robust_loss")) {
+      std::string loss;
+      f.get("robust_loss", &loss);
+      if (loss == "none")
+        o.robust_loss = RobustLoss::kNone;
+      else if (loss == "huber")
+        o.robust_loss = RobustLoss::kHuber;
+      else if (loss == "cauchy")
+        o.robust_loss = RobustLoss::kCauchy;
+      else
+        throw InputError("estimator option 'robust_loss' must be none, huber or cauchy (got '" + loss + "')");
+    }
     f.get("robust_loss_scale_px", &o.robust_loss_scale_px);
     f.get("outlier_threshold_px", &o.outlier_threshold_px);
     f.get("min_depth_m", &o.min_depth_m);
@@ -141,7 +143,7 @@ EstimatorOptions EstimatorOptions::fromYaml(const YAML::Node& node, const std::s
   } catch (const InputError& e) {
     throw InputError(context + ": " + e.what());
   }
-  // Its errors name the context and the section ("conflict option 'key'").
+  // Outside the try: its errors name the context themselves ("conflict option 'key'").
   o.conflict = conflict::ConflictOptions::fromYaml(conflict_section, context);
   try {
     o.validate();

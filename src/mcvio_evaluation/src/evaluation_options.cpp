@@ -29,7 +29,7 @@ EvaluationOptions EvaluationOptions::fromYamlFile(const std::string& path) {
     else if (method == "interpolate")
       o.association.method = AssociationOptions::Method::kInterpolate;
     else
-      throw InputError("evaluation option 'association.method' must be interpolate or nearest (got '" + method + "')");
+      throw InputError("evaluation option '" + a.name("method") + "' must be interpolate or nearest (got '" + method + "')");
     a.get("max_interpolation_gap_s", &o.association.max_interpolation_gap_s);
     a.get("max_time_difference_s", &o.association.max_time_difference_s);
     a.rejectUnknown();

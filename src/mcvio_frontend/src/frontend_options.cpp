@@ -102,10 +102,6 @@ FrontendOptions FrontendOptions::fromYaml(const YAML::Node& node, const std::str
     f.get("reidentify_ratio", &o.reidentify_ratio);
     f.get("history_length", &o.history_length);
     f.rejectUnknown();
-  } catch (const InputError& e) {
-    throw InputError(context + ": " + e.what());
-  }
-  try {
     o.validate();
   } catch (const InputError& e) {
     throw InputError(context + ": " + e.what());
