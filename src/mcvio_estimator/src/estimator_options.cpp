@@ -103,6 +103,7 @@ EstimatorOptions EstimatorOptions::fromYaml(const YAML::Node& node, const std::s
     f.get("max_depth_m", &o.max_depth_m);
     f.get("min_stereo_disparity_px", &o.min_stereo_disparity_px);
     f.get("right_camera_in_all_frames", &o.right_camera_in_all_frames);
+    f.get("marginalize_tracked_landmark_history", &o.marginalize_tracked_landmark_history);
     f.get("gravity_magnitude", &o.gravity_magnitude);
     f.get("imu_noise_inflation", &o.imu_noise_inflation);
     f.get("imu_random_walk_inflation", &o.imu_random_walk_inflation);

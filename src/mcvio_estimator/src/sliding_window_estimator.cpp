@@ -727,7 +727,7 @@ void SlidingWindowEstimator::solve(EstimatorOutput* out) {
   so.linear_solver_ordering.reset(ordering);
   so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
   so.max_num_iterations = options_.max_iterations;
-  const bool resolving = monitor_->conflictActive() && options_.conflict.mode != conflict::ResolutionMode::kReference;
+  const bool resolving = resolvingConflict();
   so.function_tolerance = resolving ? options_.conflict_function_tolerance : options_.function_tolerance;
   // Not while a conflict is being resolved: eliminated landmarks and held biases move the minimum
   // further than one step goes, however well that step met its model.
@@ -862,25 +862,37 @@ void SlidingWindowEstimator::marginalizeWith(const std::vector<const ResidualRec
   }
 }
 
-bool SlidingWindowEstimator::reanchor(Landmark& lm, std::uint64_t leaving_frame) {
+bool SlidingWindowEstimator::resolvingConflict() const {
+  return monitor_->conflictActive() && options_.conflict.mode != conflict::ResolutionMode::kReference;
+}
+
+bool SlidingWindowEstimator::newAnchor(const Landmark& lm, std::uint64_t leaving_frame, bool imu_window_only,
+                                       std::uint64_t* frame_id, Eigen::Vector3d* param) const {
   Eigen::Vector3d p_W;
   if (!landmarkPointWorld(lm, &p_W)) return false;
-  for (auto& f : frames_) {
-    if (f->id == leaving_frame) continue;
+  for (const auto& f : frames_) {
+    if (f->id == leaving_frame || (imu_window_only && !f->has_speed_bias)) continue;
     const auto it = f->cam0.find(lm.track_id);
     if (it == f->cam0.end()) continue;
     const Eigen::Vector3d p_B =
         Eigen::Map<const Eigen::Quaterniond>(f->pose.data() + 3).conjugate() * (p_W - Eigen::Map<const Eigen::Vector3d>(f->pose.data()));
     const Eigen::Vector3d p_C = T_BC0_.inverse() * p_B;
     if (!(p_C.z() >= options_.min_depth_m && p_C.z() <= options_.max_depth_m)) return false;
-    // The estimate moves to the new anchor unchanged; the new anchor's observations stay residuals.
-    lm.anchor_frame = f->id;
-    lm.param[0] = p_C.x() / p_C.z();
-    lm.param[1] = p_C.y() / p_C.z();
-    lm.param[2] = 1.0 / p_C.z();
+    *frame_id = f->id;
+    *param = Eigen::Vector3d(p_C.x() / p_C.z(), p_C.y() / p_C.z(), 1.0 / p_C.z());
     return true;
   }
   return false;
+}
+
+bool SlidingWindowEstimator::reanchor(Landmark& lm, std::uint64_t leaving_frame, bool imu_window_only) {
+  std::uint64_t frame_id = 0;
+  Eigen::Vector3d param;
+  if (!newAnchor(lm, leaving_frame, imu_window_only, &frame_id, &param)) return false;
+  // The estimate moves to the new anchor unchanged; the new anchor's observations stay residuals.
+  lm.anchor_frame = frame_id;
+  Eigen::Map<Eigen::Vector3d>(lm.param) = param;
+  return true;
 }
 
 void SlidingWindowEstimator::marginalize() {
@@ -937,28 +949,52 @@ void SlidingWindowEstimator::marginalizeOldestKeyframe() {
   }
   std::unordered_set<std::uint64_t> dead;
   std::set<const double*> drop{k0.pose.data()};
+  // marginalize_tracked_landmark_history: a landmark anchored here and still tracked is split.
+  // Its observations in the keyframe window leave with this keyframe; it goes on in the IMU window.
+  std::unordered_set<std::uint64_t> pose_only_frames, split;
+  for (const auto& f : frames_)
+    if (!f->has_speed_bias) pose_only_frames.insert(f->id);
   auto consider = [&](std::uint64_t track) {
     const auto it = landmarks_.find(track);
-    if (it == landmarks_.end() || alive.count(track) != 0) return;
-    if (dead.insert(track).second) drop.insert(it->second.param);
+    if (it == landmarks_.end()) return;
+    const Landmark& lm = it->second;
+    if (alive.count(track) != 0) {
+      std::uint64_t frame_id = 0;
+      Eigen::Vector3d param;
+      if (!options_.marginalize_tracked_landmark_history || lm.anchor_frame != k0.id || resolvingConflict() ||
+          !newAnchor(lm, k0.id, true, &frame_id, &param))
+        return;
+      split.insert(track);
+    }
+    if (dead.insert(track).second) drop.insert(lm.param);
   };
   for (const auto& [t, n] : k0.cam0) consider(t);
   for (const auto& [t, n] : k0.cam1) consider(t);
   // Landmarks seen only by keyframes leave with this keyframe, all their observations folded
-  // into the prior; landmarks still tracked lose this keyframe's observations only.
+  // into the prior; landmarks still tracked lose this keyframe's observations only (or, split,
+  // their keyframe window's).
   std::vector<const ResidualRecord*> records;
   for (const auto& r : records_) {
     if (!r.valid) continue;
     bool take = r.kind == ResidualKind::kPrior;
     if (r.kind == ResidualKind::kVisual) {
-      take = dead.count(r.track_id) != 0;
+      take = dead.count(r.track_id) != 0 && (split.count(r.track_id) == 0 || pose_only_frames.count(r.frame_id) != 0);
     } else {
       for (int i = 0; i < r.num_params; ++i) take |= r.params()[i] == k0.pose.data();
     }
     if (take) records.push_back(&r);
   }
   marginalizeWith(records, drop);
+  for (const auto t : split) {
+    reanchor(landmarks_.at(t), k0.id, true);
+    for (auto& f : frames_)
+      if (!f->has_speed_bias) {
+        f->cam0.erase(t);
+        f->cam1.erase(t);
+      }
+  }
   for (auto t : dead) {
+    if (split.count(t) != 0) continue;
     rememberLandmark(t, newest().t);
     eraseLandmark(t);
   }

@@ -325,8 +325,9 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_DOUBLE_EQ(o.init_roll_pitch_sigma_moving, d.init_roll_pitch_sigma_moving);
   EXPECT_DOUBLE_EQ(o.max_time_without_vision_s, d.max_time_without_vision_s);
   EXPECT_EQ(o.right_camera_in_all_frames, d.right_camera_in_all_frames);
+  EXPECT_EQ(o.marginalize_tracked_landmark_history, d.marginalize_tracked_landmark_history);
   const YAML::Node root = YAML::LoadFile(std::string(MCVIO_ESTIMATOR_CONFIG_DIR) + "/estimator.yaml");
-  EXPECT_EQ(root.size(), 49u) << "every option appears once";
+  EXPECT_EQ(root.size(), 50u) << "every option appears once";
   // The conflict section lists every conflict option with its default.
   const auto& c = o.conflict;
   const conflict::ConflictOptions dc;

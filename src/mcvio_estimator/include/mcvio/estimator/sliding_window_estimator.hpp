@@ -173,7 +173,15 @@ class SlidingWindowEstimator {
   void marginalizeOldestImuFrame();
   void marginalizeOldestKeyframe();
   void marginalizeWith(const std::vector<const ResidualRecord*>& records, const std::set<const double*>& drop);
-  bool reanchor(Landmark& lm, std::uint64_t leaving_frame);
+  /// A conflict is suspected or open and the mode resolves it (not `reference`, the plain VIO).
+  bool resolvingConflict() const;
+  /// The first frame other than `leaving_frame` (with speed/biases if `imu_window_only`) that sees
+  /// `lm`, and the landmark's parameters anchored there; false if none, or if the point is outside
+  /// the depth range there.
+  bool newAnchor(const Landmark& lm, std::uint64_t leaving_frame, bool imu_window_only, std::uint64_t* frame_id,
+                 Eigen::Vector3d* param) const;
+  /// Moves `lm` to its newAnchor, its estimate unchanged.
+  bool reanchor(Landmark& lm, std::uint64_t leaving_frame, bool imu_window_only = false);
   void eraseLandmark(std::uint64_t track_id);
   /// Keeps a landmark leaving the window in map_memory_ (not while a conflict is suspected or
   /// open, nor one the conflict classifier holds moving), stamped `t`.
