@@ -99,6 +99,7 @@ EstimatorOptions EstimatorOptions::fromYaml(const YAML::Node& node, const std::s
     }
     f.get("robust_loss_scale_px", &o.robust_loss_scale_px);
     f.get("outlier_threshold_px", &o.outlier_threshold_px);
+    f.get("outlier_drops_landmark", &o.outlier_drops_landmark);
     f.get("min_depth_m", &o.min_depth_m);
     f.get("max_depth_m", &o.max_depth_m);
     f.get("min_stereo_disparity_px", &o.min_stereo_disparity_px);

@@ -758,6 +758,7 @@ void SlidingWindowEstimator::removeOutliers(EstimatorOutput* out) {
     ++out->num_outliers;
     Frame* f = frameById(r.frame_id);
     if (f != nullptr) (r.camera == 0 ? f->cam0 : f->cam1).erase(r.track_id);
+    if (options_.outlier_drops_landmark) to_erase.insert(r.track_id);
   }
   for (const auto& [track, lm] : landmarks_) {
     const double depth = lm.depth();

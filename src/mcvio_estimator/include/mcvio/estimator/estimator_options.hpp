@@ -27,6 +27,10 @@ struct EstimatorOptions {
   RobustLoss robust_loss = RobustLoss::kHuber;
   double robust_loss_scale_px = 3.0;         ///< where the robust loss starts to bend [px] (about 3 sigma)
   double outlier_threshold_px = 4.0;         ///< observations with larger error after a solve are dropped
+  /// ... and with them their landmark (it starts again from the track's next stereo pair). A
+  /// track that slid off its corner, or onto something that moves, gives such an observation
+  /// frame after frame, and each pulls one solve before it is dropped.
+  bool outlier_drops_landmark = false;
   double min_depth_m = 0.1;                  ///< landmarks closer than this are rejected
   double max_depth_m = 40.0;                 ///< landmarks farther than this are rejected
   double min_stereo_disparity_px = 0.5;      ///< stereo pairs with less disparity give no depth
