@@ -196,6 +196,7 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
     f.get("thin_view_bias_hold_landmarks", &o.thin_view_bias_hold_landmarks);
     f.get("thin_view_bias_hold_usable_tracks", &o.thin_view_bias_hold_usable_tracks);
     f.get("split_bias_hold", &o.split_bias_hold);
+    f.get("frontend_conflict_keeps_history", &o.frontend_conflict_keeps_history);
     f.get("vision_depth_weighting", &o.vision_depth_weighting);
     f.get("auto_split_fraction", &o.auto_split_fraction);
     f.get("rewind_on_entry", &o.rewind_on_entry);

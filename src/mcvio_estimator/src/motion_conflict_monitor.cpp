@@ -84,6 +84,8 @@ void MotionConflictMonitor::reset() {
   frames_since_interval_ = -1;
   frames_after_conflict_ = -1;
   frontend_group_run_ = 0;
+  backend_found_motion_ = false;
+  whole_run_ = 0;
   tracker_.reset();
   classifier_.clear();
   secondary_.end();
@@ -285,6 +287,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   bool group_seen = false;  // a partial conflict: a moving group next to static landmarks
   bool split_group = false;  // the region split's static side found this frame's partial group
   bool split_held = false;   // ... and has on split_min_frames frames in a row (a partial conflict)
+  bool backend_motion = false;  // a coherent landmark group, or the region split held (a partial conflict)
   const int prev_split_run = split_run_;
   split_run_ = 0;
   double score = 0;  // evidence strength: the statistics relative to their thresholds
@@ -379,6 +382,7 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
                             lm.fraction >= options_.partial_min_fraction && lm.coherence >= options_.min_coherence);
       if (lm.tested >= options_.min_landmarks_tested && lm.fraction >= options_.whole_view_fraction) whole = true;
       group_seen = partial;
+      backend_motion = partial || split_held;
       evidence = (whole || partial) && frames_since_reset_ >= options_.warmup_frames;
       verdicts = lm.verdicts;
     }
@@ -577,7 +581,15 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
   d.report.interval_onset = tracker_.intervalOnset();
   d.report.interval_end = tracker_.intervalEnd();
 
-  if (state == conflict::ConflictIntervalTracker::State::kNone) split_group_seen_ = false;
+  if (state == conflict::ConflictIntervalTracker::State::kNone) {
+    split_group_seen_ = false;
+    backend_found_motion_ = false;
+    whole_run_ = 0;
+  } else {
+    // A whole-view test firing alone on one frame, with a thin view, is not the motion found.
+    whole_run_ = whole ? whole_run_ + 1 : 0;
+    if (backend_motion || imu_dominated_ || whole_run_ >= options_.enter_frames) backend_found_motion_ = true;
+  }
   if (tracker_.justEntered()) entered_on_drift_ = drift_fired;
   if (tracker_.justExited() && imu_dominated_) {
     if (options_.restart_on_exit && !history_.empty()) {

@@ -867,6 +867,13 @@ bool SlidingWindowEstimator::resolvingConflict() const {
   return monitor_->conflictActive() && options_.conflict.mode != conflict::ResolutionMode::kReference;
 }
 
+bool SlidingWindowEstimator::historyMayGoOn(std::uint64_t track_id) const {
+  if (!resolvingConflict()) return true;
+  // A moving landmark's history, once in the prior, could not be eliminated with it.
+  return options_.conflict.frontend_conflict_keeps_history && monitor_->conflictFromFrontendOnly() &&
+         !monitor_->disagreedRecently(track_id) && !monitor_->isEliminated(track_id);
+}
+
 bool SlidingWindowEstimator::newAnchor(const Landmark& lm, std::uint64_t leaving_frame, bool imu_window_only,
                                        std::uint64_t* frame_id, Eigen::Vector3d* param) const {
   Eigen::Vector3d p_W;
@@ -962,7 +969,7 @@ void SlidingWindowEstimator::marginalizeOldestKeyframe() {
     if (alive.count(track) != 0) {
       std::uint64_t frame_id = 0;
       Eigen::Vector3d param;
-      if (!options_.marginalize_tracked_landmark_history || lm.anchor_frame != k0.id || resolvingConflict() ||
+      if (!options_.marginalize_tracked_landmark_history || lm.anchor_frame != k0.id || !historyMayGoOn(track) ||
           !newAnchor(lm, k0.id, true, &frame_id, &param))
         return;
       split.insert(track);

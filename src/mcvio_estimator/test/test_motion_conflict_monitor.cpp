@@ -161,6 +161,8 @@ struct Frame {
   MotionConflictMonitor::Decision decision;  ///< report completed by commit()
   std::set<std::uint64_t> observed;          ///< tracks with a stereo observation
   std::set<std::uint64_t> on_probation;      ///< observed tracks held out (created when first observed)
+  bool frontend_only = false;                ///< conflictFromFrontendOnly() after process()
+  std::set<std::uint64_t> disagreed;         ///< observed tracks for which disagreedRecently()
 };
 
 /// Feeds `frames` frames of the scenario to a monitor: IMU up to the frame, process(), commit()
@@ -209,6 +211,9 @@ std::vector<Frame> run(const Scenario& sc, const conflict::ConflictOptions& opti
       }
     }
     f.decision = monitor.process(t, cam0, cam1, frontend, imu);
+    f.frontend_only = monitor.conflictFromFrontendOnly();
+    for (const auto& [id, n] : cam0)
+      if (monitor.disagreedRecently(id)) f.disagreed.insert(id);
     for (const auto id : f.observed) {
       first_seen.emplace(id, t);
       if (monitor.onProbation(id, first_seen[id])) f.on_probation.insert(id);
@@ -808,6 +813,33 @@ TEST(MotionConflictMonitor, FrontendLabelsDetectAnOccluderWithoutStereo) {
   conflict::ConflictOptions strict = o;
   strict.frontend_min_count = 61;
   for (const auto& f : run(laptopScene(), strict, kLaptopFrames)) EXPECT_FALSE(inConflict(f));
+}
+
+// frontend_conflict_keeps_history: the laptop's interval is found by the frontend's labels alone,
+// so the estimator may keep the static landmarks' history (every laptop track has disagreed, no
+// static one has); the slow object's is found by the region split and the landmark test, and
+// never counts as the frontend's alone.
+TEST(MotionConflictMonitor, AnIntervalOnlyTheFrontendFoundIsTold) {
+  const conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
+  const auto frames = run(laptopScene(), o, kLaptopFrames);
+  const int entry = firstFrame(frames, inConflict);
+  ASSERT_GE(entry, kLaptopFrame);
+  for (int k = 0; k < kLaptopFrame; ++k) EXPECT_FALSE(frames[k].frontend_only) << "frame " << k;
+  for (int k = entry; k < kLaptopGoneFrame; ++k) {
+    ASSERT_TRUE(inConflict(frames[k])) << "frame " << k;
+    EXPECT_TRUE(frames[k].frontend_only) << "frame " << k;
+    for (const auto id : frames[k].disagreed) EXPECT_GE(id, 1000u) << "a static point, frame " << k;
+    EXPECT_EQ(frames[k].disagreed.size(), 60u) << "frame " << k;
+  }
+  conflict::ConflictOptions slow = withMode(conflict::ResolutionMode::kAuto);
+  slow.velocity_sigma_mps = 0.1;
+  const auto split = run(slowObjectScene(), slow, kDriftFrames);
+  int in_conflict = 0;
+  for (const auto& f : split) {
+    in_conflict += inConflict(f);
+    EXPECT_FALSE(f.frontend_only);
+  }
+  EXPECT_GT(in_conflict, 10);
 }
 
 // frontend_marginal_score: tracks on an occluding edge slide against the background, and on clean

@@ -377,6 +377,7 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_EQ(c.thin_view_bias_hold_landmarks, dc.thin_view_bias_hold_landmarks);
   EXPECT_EQ(c.thin_view_bias_hold_usable_tracks, dc.thin_view_bias_hold_usable_tracks);
   EXPECT_EQ(c.split_bias_hold, dc.split_bias_hold);
+  EXPECT_EQ(c.frontend_conflict_keeps_history, dc.frontend_conflict_keeps_history);
   EXPECT_EQ(c.vision_depth_weighting, dc.vision_depth_weighting);
   EXPECT_DOUBLE_EQ(c.smoothing_held_acceleration_sigma, dc.smoothing_held_acceleration_sigma);
   EXPECT_EQ(c.frontend_labels_outside_min_count, dc.frontend_labels_outside_min_count);
@@ -409,7 +410,7 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_DOUBLE_EQ(c.smoothing_registration_tolerance_m, dc.smoothing_registration_tolerance_m);
   EXPECT_DOUBLE_EQ(c.smoothing_registration_min_fraction, dc.smoothing_registration_min_fraction);
   EXPECT_DOUBLE_EQ(c.smoothing_registration_max_ambiguity, dc.smoothing_registration_max_ambiguity);
-  EXPECT_EQ(root["conflict"].size(), 77u) << "every conflict option appears once";
+  EXPECT_EQ(root["conflict"].size(), 78u) << "every conflict option appears once";
 }
 
 }  // namespace

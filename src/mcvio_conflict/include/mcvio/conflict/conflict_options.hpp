@@ -230,6 +230,14 @@ struct ConflictOptions {
   /// same. Image level with the IMU noise at x3 (shipped): slow object 0.078 / 0.071 / 0.079 ->
   /// 0.039 / 0.024 / 0.036 m (seeds 1-3).
   bool split_bias_hold = true;
+  /// Selective (and auto's selective intervals): while only the frontend's labels have found
+  /// motion in the open interval (no whole-view test, landmark group or region split has), the
+  /// still-tracked landmarks' history goes on into the prior (EstimatorOptions::
+  /// marginalize_tracked_landmark_history) for every landmark that has not disagreed within the
+  /// horizon. The frontend finds a carried object's tracks at once, so the rest is the static
+  /// world; a slow object that only the backend's tests find keeps the pause (its tracks are
+  /// confirmed static before they move).
+  bool frontend_conflict_keeps_history = true;
   /// The vision-only motion weighs each point by its stereo depth uncertainty at the horizon's
   /// reference frame, projected into the newest frame (RelativePoseSolver). Without it a brisk
   /// horizon's far points pulled vision's rotation up to a degree off on a clean feature-level

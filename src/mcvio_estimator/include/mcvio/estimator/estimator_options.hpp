@@ -43,7 +43,8 @@ struct EstimatorOptions {
   /// dropped and only the estimate goes on. With a keyframe every frame or two (fast motion, a
   /// close view) the window otherwise forgets everything older than its own half second. Not
   /// while a conflict is resolved: a moving landmark's history, once in the prior, could not be
-  /// eliminated with it (a rendered slow object, seed 4: 0.130 m splitting through, 0.034 m pausing).
+  /// eliminated with it (a rendered slow object, seed 4: 0.130 m splitting through, 0.034 m pausing);
+  /// unless only the frontend found the motion (ConflictOptions::frontend_conflict_keeps_history).
   bool marginalize_tracked_landmark_history = false;
 
   // IMU. Multiplying the datasheet densities absorbs unmodelled effects on real sensors.

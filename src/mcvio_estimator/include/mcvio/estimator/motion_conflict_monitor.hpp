@@ -96,6 +96,11 @@ class MotionConflictMonitor {
   bool imuDominated() const { return imu_dominated_; }
   /// A conflict is suspected or open (in any mode, reference included).
   bool conflictActive() const { return tracker_.state() != conflict::ConflictIntervalTracker::State::kNone; }
+  /// A conflict is active and only the frontend's labels have found motion in it so far (see
+  /// ConflictOptions::frontend_conflict_keeps_history).
+  bool conflictFromFrontendOnly() const { return conflictActive() && !backend_found_motion_; }
+  /// The track disagreed with the static world within the horizon (any test, or a frontend label).
+  bool disagreedRecently(std::uint64_t track_id) const { return last_disagreed_.count(track_id) != 0; }
   /// Oldest time the monitor still needs IMU for (the conflict window's start while it is open).
   Timestamp oldestTimeNeeded() const;
   /// The conflict window after an IMU-dominated interval is ready to be smoothed (see
@@ -171,6 +176,8 @@ class MotionConflictMonitor {
   /// count lets an elevator go IMU-dominated once its doors close (with the frontend's labels the
   /// cabin's tracks are all eliminated; held selective, the window lost every landmark: 11.6 m).
   bool split_group_seen_ = false;
+  bool backend_found_motion_ = false;  ///< the open interval's whole-view, landmark-group or split tests fired
+  int whole_run_ = 0;  ///< consecutive frames of the open interval with a whole-view test firing
   int split_run_ = 0;  ///< consecutive frames the split fired beside a side that agrees with the IMU
   int frontend_group_run_ = 0;  ///< consecutive frames with a labelled group (frontend_marginal_score)
   /// Frame index (frame_index_ counts process() calls in selective and auto) at which each track

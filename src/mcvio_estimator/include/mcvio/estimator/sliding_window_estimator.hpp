@@ -175,6 +175,9 @@ class SlidingWindowEstimator {
   void marginalizeWith(const std::vector<const ResidualRecord*>& records, const std::set<const double*>& drop);
   /// A conflict is suspected or open and the mode resolves it (not `reference`, the plain VIO).
   bool resolvingConflict() const;
+  /// marginalize_tracked_landmark_history may put this landmark's history into the prior now: not
+  /// while a conflict is resolved, unless ConflictOptions::frontend_conflict_keeps_history allows it.
+  bool historyMayGoOn(std::uint64_t track_id) const;
   /// The first frame other than `leaving_frame` (with speed/biases if `imu_window_only`) that sees
   /// `lm`, and the landmark's parameters anchored there; false if none, or if the point is outside
   /// the depth range there.
