@@ -176,7 +176,7 @@ class MotionConflictMonitor {
   /// count lets an elevator go IMU-dominated once its doors close (with the frontend's labels the
   /// cabin's tracks are all eliminated; held selective, the window lost every landmark: 11.6 m).
   bool split_group_seen_ = false;
-  bool backend_found_motion_ = false;  ///< the open interval's whole-view, landmark-group or split tests fired
+  bool backend_found_motion_ = false;  ///< in the open interval: a landmark group, a held split, a whole-view run, or IMU-dominated
   int whole_run_ = 0;  ///< consecutive frames of the open interval with a whole-view test firing
   int split_run_ = 0;  ///< consecutive frames the split fired beside a side that agrees with the IMU
   int frontend_group_run_ = 0;  ///< consecutive frames with a labelled group (frontend_marginal_score)
