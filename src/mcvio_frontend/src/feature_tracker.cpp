@@ -392,7 +392,11 @@ void FeatureTracker::trackTemporal(const std::vector<cv::Mat>& cur_pyr,
 
 void FeatureTracker::detectNew(const cv::Mat& image, Timestamp t_frame, TrackingStats* stats) {
   const int max_features = options_.max_features;
-  if (static_cast<int>(tracks_.size()) >= max_features) return;
+  // Tracks labelled moving count only up to their share (FrontendOptions::moving_track_budget_share).
+  int counted = 0, moving = 0;
+  for (const Track& t : tracks_) ++(t.label == TrackLabel::kInconsistent ? moving : counted);
+  counted += std::min(moving, static_cast<int>(options_.moving_track_budget_share * max_features));
+  if (counted >= max_features) return;
   const int w = image.cols, h = image.rows;
   const int radius = static_cast<int>(std::ceil(options_.min_distance_px));
   occupancy_.create(h, w, CV_8UC1);
@@ -414,7 +418,7 @@ void FeatureTracker::detectNew(const cv::Mat& image, Timestamp t_frame, Tracking
   const int quota = (max_features + cols * rows - 1) / (cols * rows);
   std::vector<cv::KeyPoint> pool;  // leftovers from under-filled cells
   std::vector<cv::Point2f> fresh;
-  int total = static_cast<int>(tracks_.size());
+  int total = counted;
   auto take = [&](const cv::KeyPoint& kp) {
     const int x = cvRound(kp.pt.x), y = cvRound(kp.pt.y);
     if (x < b || y < b || x >= w - b || y >= h - b) return false;

@@ -19,6 +19,8 @@ void require(bool ok, const std::string& key, const std::string& rule) {
 
 void FrontendOptions::validate() const {
   require(max_features > 0, "max_features", "must be > 0");
+  require(std::isfinite(moving_track_budget_share) && moving_track_budget_share >= 0 && moving_track_budget_share <= 1,
+          "moving_track_budget_share", "must be in [0, 1]");
   require(grid_cols > 0 && grid_cols <= 64, "grid_cols", "must be in [1, 64]");
   require(grid_rows > 0 && grid_rows <= 64, "grid_rows", "must be in [1, 64]");
   require(std::isfinite(min_distance_px) && min_distance_px >= 1.0, "min_distance_px",
@@ -69,6 +71,7 @@ FrontendOptions FrontendOptions::fromYaml(const YAML::Node& node, const std::str
   try {
     YamlFields f(node, "", "frontend option");
     f.get("max_features", &o.max_features);
+    f.get("moving_track_budget_share", &o.moving_track_budget_share);
     f.get("grid_cols", &o.grid_cols);
     f.get("grid_rows", &o.grid_rows);
     f.get("min_distance_px", &o.min_distance_px);

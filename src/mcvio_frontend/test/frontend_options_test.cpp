@@ -33,6 +33,9 @@ TEST(FrontendOptions, YamlOverridesDefaults) {
 
 TEST(FrontendOptions, ErrorsNameTheKey) {
   EXPECT_NE(errorOf("max_features: -3").find("max_features"), std::string::npos);
+  EXPECT_NE(errorOf("moving_track_budget_share: 1.5").find("moving_track_budget_share"), std::string::npos);
+  EXPECT_NE(errorOf("moving_track_budget_share: .nan").find("moving_track_budget_share"), std::string::npos);
+  EXPECT_EQ(errorOf("moving_track_budget_share: 0.6"), "");
   EXPECT_NE(errorOf("window_size: 20").find("window_size"), std::string::npos);
   EXPECT_NE(errorOf("max_featurez: 100").find("max_featurez"), std::string::npos);
   EXPECT_NE(errorOf("pyramid_levels: many").find("pyramid_levels"), std::string::npos);
@@ -57,6 +60,7 @@ TEST(FrontendOptions, ShippedConfigLoads) {
   // The shipped file documents the defaults: keep them equal.
   const FrontendOptions d;
   EXPECT_EQ(o.max_features, d.max_features);
+  EXPECT_DOUBLE_EQ(o.moving_track_budget_share, d.moving_track_budget_share);
   EXPECT_EQ(o.window_size, d.window_size);
   EXPECT_EQ(o.klt_max_iterations, d.klt_max_iterations);
   EXPECT_DOUBLE_EQ(o.klt_epsilon, d.klt_epsilon);

@@ -12,6 +12,12 @@ namespace mcvio::frontend {
 struct FrontendOptions {
   // Detection
   int max_features = 200;  ///< tracks kept per frame (left camera)
+  /// Share of max_features that tracks labelled inconsistent (moving with something other than
+  /// the camera's world) may take. They are tracked on for the backend's conflict detection, but
+  /// beyond this share they no longer keep new features out of the static view: an occluder
+  /// carried with the camera never leaves the image, and its tracks would hold most of the
+  /// budget for as long as it stays. 1: they count like any track.
+  double moving_track_budget_share = 1.0;
   int grid_cols = 8;       ///< detection grid columns: each cell gets a share of max_features
   int grid_rows = 6;       ///< detection grid rows
   double min_distance_px = 15.0;    ///< minimum distance between any two tracks [px]
