@@ -227,8 +227,9 @@ TEST(OfflineAccuracy, APedestrianFoundLateDoesNotMoveTheWindowWhenItsTracksGo) {
 // --duration 30 --onset 10 --scenario-duration 12 --seed 9`): only the frontend's labels find it,
 // and they eliminate its tracks at once. The few static landmarks left keep their history going
 // into the prior (frontend_conflict_keeps_history); paused, as for a conflict the backend's own
-// tests find, the thin window floats (measured: auto 0.0077 m, paused 0.0222 m, the plain VIO
-// 0.0138 m, the clean run of this seed 0.0048 m).
+// tests find, the thin window floats (measured: auto 0.0083 m, paused 0.0123 m, the plain VIO
+// 0.0154 m, the clean run of this seed 0.0048 m; before the shipped moving_track_budget_share
+// left the world more tracks, 0.0077 / 0.0222 / 0.0138 m).
 TEST(OfflineAccuracy, AnOccluderOnlyTheFrontendFindsKeepsTheStaticHistory) {
   const sim::Simulator simulator(renderedScenario(sim::ScenarioKind::kSelfOcclusion, 9, 30.0, 10.0, 12.0));
   const std::string section = "\n  conflict:\n";
@@ -243,8 +244,8 @@ TEST(OfflineAccuracy, AnOccluderOnlyTheFrontendFindsKeepsTheStaticHistory) {
   std::filesystem::remove(paused);
   EXPECT_EQ(s_auto.resets, 0u);
   EXPECT_GT(conflict_auto, 200u);  // 240 labelled frames
-  EXPECT_LT(aut.ate_pos_yaw_rmse, 0.6 * off.ate_pos_yaw_rmse);
-  EXPECT_LT(aut.ate_pos_yaw_rmse, 0.8 * ref.ate_pos_yaw_rmse);
+  EXPECT_LT(aut.ate_pos_yaw_rmse, 0.75 * off.ate_pos_yaw_rmse);
+  EXPECT_LT(aut.ate_pos_yaw_rmse, 0.7 * ref.ate_pos_yaw_rmse);
 }
 
 // The laptop of seed 8 (`mcvio sim --scenario self_occlusion --duration 30 --onset 10
