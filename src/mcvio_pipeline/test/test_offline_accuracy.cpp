@@ -104,6 +104,27 @@ sim::SimulatorOptions renderedScenario(sim::ScenarioKind kind, std::uint64_t see
   return so;
 }
 
+/// One sequence run with the shipped configuration and with a variant of it (`from` replaced by
+/// `to`, see shippedConfigWith): the pair an option's test compares.
+struct ShippedAndVariant {
+  bool ran = false;  ///< false: the shipped configuration has no `from`
+  pipeline::sequences::RunAccuracy shipped, variant;
+  pipeline::OfflineRunSummary shipped_summary, variant_summary;
+  std::size_t shipped_conflict_frames = 0, variant_conflict_frames = 0;
+};
+
+ShippedAndVariant runShippedAndVariant(const sim::Simulator& simulator, const std::string& name,
+                                       const std::string& from, const std::string& to, const std::string& mode) {
+  ShippedAndVariant r;
+  const std::string variant = shippedConfigWith(from, to, name + "_variant");
+  if (variant.empty()) return r;
+  r.variant = runAndEvaluate(simulator, name + "_variant", &r.variant_summary, &r.variant_conflict_frames, mode, variant);
+  r.shipped = runAndEvaluate(simulator, name + "_shipped", &r.shipped_summary, &r.shipped_conflict_frames, mode);
+  std::filesystem::remove(variant);
+  r.ran = true;
+  return r;
+}
+
 }  // namespace
 
 TEST(OfflineAccuracy, RenderedOffice60sNoneScenario) {
@@ -165,20 +186,15 @@ TEST(OfflineAccuracy, RenderedFullOcclusionFindsTheMapAgainByPosition) {
   sim::SimulatorOptions so = renderedScenario(sim::ScenarioKind::kSelfOcclusion, 1, 32.0, 24.0, 4.0);
   so.scenario.coverage = 1.0;
   const sim::Simulator simulator(so);
-  // The shipped configuration with the registration off.
+  // The variant: the registration off.
   const std::string section = "\n  conflict:\n";
-  const std::string without =
-      shippedConfigWith(section, section + "    smoothing_registration_radius_m: 0\n", "no_registration");
-  ASSERT_FALSE(without.empty());
-  pipeline::OfflineRunSummary s_off, s_on;
-  std::size_t conflict_off = 0, conflict_on = 0;
-  const auto off = runAndEvaluate(simulator, "rendered_full_occlusion_off", &s_off, &conflict_off, "auto", without);
-  const auto on = runAndEvaluate(simulator, "rendered_full_occlusion_on", &s_on, &conflict_on, "auto");
-  std::filesystem::remove(without);
-  EXPECT_EQ(s_on.resets, 0u);
-  EXPECT_GT(conflict_on, 60u);  // 80 labelled frames
-  EXPECT_LT(on.ate_pos_yaw_rmse, 0.025);
-  EXPECT_LT(on.ate_pos_yaw_rmse, 0.6 * off.ate_pos_yaw_rmse);
+  const auto r = runShippedAndVariant(simulator, "rendered_full_occlusion", section,
+                                      section + "    smoothing_registration_radius_m: 0\n", "auto");
+  ASSERT_TRUE(r.ran);
+  EXPECT_EQ(r.shipped_summary.resets, 0u);
+  EXPECT_GT(r.shipped_conflict_frames, 60u);  // 80 labelled frames
+  EXPECT_LT(r.shipped.ate_pos_yaw_rmse, 0.025);
+  EXPECT_LT(r.shipped.ate_pos_yaw_rmse, 0.6 * r.variant.ate_pos_yaw_rmse);
 }
 
 // With a keyframe on nearly every frame (the rendered office seen from close by) the keyframe
@@ -188,16 +204,11 @@ TEST(OfflineAccuracy, RenderedFullOcclusionFindsTheMapAgainByPosition) {
 // seeds 1, 8 and 9 0.012 / 0.022 / 0.017 -> 0.006 / 0.008 / 0.005 m).
 TEST(OfflineAccuracy, TrackedLandmarkHistoryInThePriorHalvesTheCleanError) {
   const sim::Simulator simulator(pipeline::sequences::renderedNone(30.0, 1));
-  const std::string off_config = shippedConfigWith("marginalize_tracked_landmark_history: true",
-                                                   "marginalize_tracked_landmark_history: false", "history_off");
-  ASSERT_FALSE(off_config.empty());
-  pipeline::OfflineRunSummary s_off, s_on;
-  std::size_t conflict_off = 0, conflict_on = 0;
-  const auto off = runAndEvaluate(simulator, "rendered_none_history_off", &s_off, &conflict_off, "", off_config);
-  const auto on = runAndEvaluate(simulator, "rendered_none_history_on", &s_on, &conflict_on);
-  std::filesystem::remove(off_config);
-  EXPECT_EQ(s_on.resets, 0u);
-  EXPECT_LT(on.ate_pos_yaw_rmse, 0.7 * off.ate_pos_yaw_rmse);
+  const auto r = runShippedAndVariant(simulator, "rendered_none_history", "marginalize_tracked_landmark_history: true",
+                                      "marginalize_tracked_landmark_history: false", "");
+  ASSERT_TRUE(r.ran);
+  EXPECT_EQ(r.shipped_summary.resets, 0u);
+  EXPECT_LT(r.shipped.ate_pos_yaw_rmse, 0.7 * r.variant.ate_pos_yaw_rmse);
 }
 
 // A pedestrian (`mcvio sim --scenario pedestrian --duration 30 --onset 10 --scenario-duration 12
@@ -208,19 +219,14 @@ TEST(OfflineAccuracy, TrackedLandmarkHistoryInThePriorHalvesTheCleanError) {
 // outlier's landmark: 0.0160 against 0.0081 m.
 TEST(OfflineAccuracy, APedestrianFoundLateDoesNotMoveTheWindowWhenItsTracksGo) {
   const sim::Simulator simulator(renderedScenario(sim::ScenarioKind::kPedestrian, 8, 30.0, 10.0, 12.0));
-  const std::string tight = shippedConfigWith("conflict_function_tolerance: 1.0e-3",
-                                              "conflict_function_tolerance: 1.0e-4", "tight_in_conflict");
-  ASSERT_FALSE(tight.empty());
-  pipeline::OfflineRunSummary s_tight, s_shipped;
-  std::size_t conflict_tight = 0, conflict_shipped = 0;
-  const auto with_tight =
-      runAndEvaluate(simulator, "rendered_pedestrian_tight", &s_tight, &conflict_tight, "auto", tight);
-  const auto shipped = runAndEvaluate(simulator, "rendered_pedestrian_shipped", &s_shipped, &conflict_shipped, "auto");
-  std::filesystem::remove(tight);
-  EXPECT_EQ(s_shipped.resets, 0u);
-  EXPECT_GT(conflict_shipped, 50u);  // 216 labelled frames, found after 3.9 s
-  EXPECT_LT(shipped.ate_pos_yaw_rmse, 0.012);
-  EXPECT_LT(shipped.ate_pos_yaw_rmse, 0.6 * with_tight.ate_pos_yaw_rmse);
+  // The variant: the tighter tolerance inside conflicts.
+  const auto r = runShippedAndVariant(simulator, "rendered_pedestrian_tolerance", "conflict_function_tolerance: 1.0e-3",
+                                      "conflict_function_tolerance: 1.0e-4", "auto");
+  ASSERT_TRUE(r.ran);
+  EXPECT_EQ(r.shipped_summary.resets, 0u);
+  EXPECT_GT(r.shipped_conflict_frames, 50u);  // 216 labelled frames, found after 3.9 s
+  EXPECT_LT(r.shipped.ate_pos_yaw_rmse, 0.012);
+  EXPECT_LT(r.shipped.ate_pos_yaw_rmse, 0.6 * r.variant.ate_pos_yaw_rmse);
 }
 
 // A laptop covering three quarters of the tracks for 12 s (`mcvio sim --scenario self_occlusion
@@ -255,15 +261,11 @@ TEST(OfflineAccuracy, AnOccluderOnlyTheFrontendFindsKeepsTheStaticHistory) {
 // (measured: auto 0.0064 m, with the share at 1 0.0136 m; the clean run of this seed 0.0079 m).
 TEST(OfflineAccuracy, AMovingOccluderLeavesTheBudgetToTheStaticView) {
   const sim::Simulator simulator(renderedScenario(sim::ScenarioKind::kSelfOcclusion, 8, 30.0, 10.0, 12.0));
-  const std::string full =
-      shippedConfigWith("moving_track_budget_share: 0.6", "moving_track_budget_share: 1.0", "budget_full");
-  ASSERT_FALSE(full.empty());
-  pipeline::OfflineRunSummary s_full, s_shipped;
-  std::size_t conflict_full = 0, conflict_shipped = 0;
-  const auto counted = runAndEvaluate(simulator, "rendered_laptop_budget_full", &s_full, &conflict_full, "auto", full);
-  const auto shared = runAndEvaluate(simulator, "rendered_laptop_budget_shared", &s_shipped, &conflict_shipped, "auto");
-  std::filesystem::remove(full);
-  EXPECT_EQ(s_shipped.resets, 0u);
-  EXPECT_GT(conflict_shipped, 200u);  // 240 labelled frames
-  EXPECT_LT(shared.ate_pos_yaw_rmse, 0.7 * counted.ate_pos_yaw_rmse);
+  // The variant: the laptop's tracks count like any other.
+  const auto r = runShippedAndVariant(simulator, "rendered_laptop_budget", "moving_track_budget_share: 0.6",
+                                      "moving_track_budget_share: 1.0", "auto");
+  ASSERT_TRUE(r.ran);
+  EXPECT_EQ(r.shipped_summary.resets, 0u);
+  EXPECT_GT(r.shipped_conflict_frames, 200u);  // 240 labelled frames
+  EXPECT_LT(r.shipped.ate_pos_yaw_rmse, 0.7 * r.variant.ate_pos_yaw_rmse);
 }
