@@ -19,6 +19,8 @@ expect 1 "no publisher of /nothing_here" -- "$mcvio" --domain "$domain" echo /no
 expect 2 "unknown command 'no_such_command' (commands: topics" -- "$mcvio" no_such_command
 expect 2 "unknown command 'no_such_command'" -- "$mcvio" --domain "$domain" no_such_command
 expect 106 "A subcommand is required" -- "$mcvio" --domain "$domain"
+expect 105 "--log-level: loud not in {trace,debug,info,warn,error,off}" -- "$mcvio" --log-level loud topics --wait 0.1
+expect 2 "MCVIO_LOG_LEVEL: unknown level 'loud'" -- env MCVIO_LOG_LEVEL=loud "$mcvio" --domain "$domain" topics --wait 0.1
 touch "$tmp/a_file"
 expect 2 "output folder '$tmp/a_file/out': cannot create it" -- "$mcvio" run --dataset "$tmp/missing" --out "$tmp/a_file/out"
 exit $failed

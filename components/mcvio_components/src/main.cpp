@@ -1,8 +1,14 @@
 // mcvio: one command that fronts every component and tool.
+#include <algorithm>
 #include <cstdlib>
 #include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
 
 #include "commands/command_context.hpp"
 #include "mcvio/core/input_error.hpp"
@@ -23,6 +29,10 @@ dds::ParticipantOptions CommandContext::participantOptions(const std::string& na
 
 int main(int argc, char** argv) {
   using namespace mcvio::cli;
+  const std::vector<std::string> kLogLevels{"trace", "debug", "info", "warn", "error", "off"};
+  // Log lines go to stderr, as ROS 2 nodes log: stdout stays for what a command prints (echo's YAML,
+  // eval's tables), so it can be piped.
+  spdlog::set_default_logger(std::make_shared<spdlog::logger>("", std::make_shared<spdlog::sinks::stderr_color_sink_mt>()));
   CLI::App app{
       "mcvio: motion-conflict-aware stereo visual-inertial odometry on a ROS 2-compatible DDS bus.\n"
       "Topics and types are ordinary ROS 2 ones: `ros2 topic echo /mcvio/odometry` works alongside.\n\n"
@@ -52,6 +62,20 @@ int main(int argc, char** argv) {
                  "Fast DDS XML profiles file, e.g. config/dds/localhost_only.xml (default: $MCVIO_DDS_PROFILES)");
   app.add_option("--dds-profile", ctx.profile_name,
                  "participant profile name inside --dds-profiles (default: the file's default profile)");
+  if (const char* l = std::getenv("MCVIO_LOG_LEVEL"); l && *l) ctx.log_level = l;
+  app.add_option("--log-level", ctx.log_level,
+                 "log messages at this level and above: trace, debug, info, warn, error, off (default: "
+                 "$MCVIO_LOG_LEVEL, else info; `bench` without --verbose: error). debug adds one line per "
+                 "estimator frame (landmarks, residuals, solver iterations, biases, conflict state), e.g. "
+                 "mcvio --log-level debug run --dataset DIR --out OUT -q 2> frames.log")
+      ->check(CLI::IsMember(kLogLevels));
+  // Runs after parsing, before the chosen command's callback: the level holds for all its work.
+  app.parse_complete_callback([&ctx, &kLogLevels] {
+    if (ctx.log_level.empty()) return;
+    if (std::find(kLogLevels.begin(), kLogLevels.end(), ctx.log_level) == kLogLevels.end())
+      throw CommandExit{2, "MCVIO_LOG_LEVEL: unknown level '" + ctx.log_level + "' (trace, debug, info, warn, error, off)"};
+    spdlog::set_level(spdlog::level::from_str(ctx.log_level));
+  });
   addTopicsCommand(app, ctx);
   addEvalCommand(app, ctx);
   addBenchCommand(app, ctx);
@@ -70,7 +94,7 @@ int main(int argc, char** argv) {
   // CLI11 answers an unknown command with "A subcommand is required"; name it and the known ones.
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if (arg == "--domain" || arg == "--dds-profiles" || arg == "--dds-profile") {
+    if (arg == "--domain" || arg == "--dds-profiles" || arg == "--dds-profile" || arg == "--log-level") {
       ++i;
       continue;
     }

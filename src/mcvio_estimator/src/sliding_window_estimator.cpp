@@ -382,7 +382,17 @@ EstimatorOutput SlidingWindowEstimator::addFrame(const FeatureFrame& input) {
   out.status = EstimatorStatus::kTracking;
   out.frame_accepted = true;
   out.message = msg.str();
-  if (!out.message.empty()) spdlog::debug("{}frame {}: {}", kLog, input.frame_index, out.message);
+  // One line per frame for `mcvio --log-level debug`: what the solve had and where the biases went.
+  if (spdlog::default_logger_raw()->should_log(spdlog::level::debug)) {
+    const Eigen::Vector3d& ba = out.bias.accel;
+    const Eigen::Vector3d& bg = out.bias.gyro;
+    spdlog::debug(
+        "{}frame {} t={}: {}keyframe, {} landmarks, {} visual residuals, {} new, {} outliers, {} iterations, "
+        "ba ({:.4f} {:.4f} {:.4f}), bg ({:.5f} {:.5f} {:.5f}), conflict {} ({}){}{}",
+        kLog, input.frame_index, input.t, out.is_keyframe ? "" : "no ", out.num_landmarks, out.num_visual_residuals,
+        out.num_new_landmarks, out.num_outliers, out.solver_iterations, ba.x(), ba.y(), ba.z(), bg.x(), bg.y(), bg.z(),
+        toString(out.conflict.state), out.conflict.resolution_mode, out.message.empty() ? "" : "; ", out.message);
+  }
   out.timings.total_ms = msSince(t_start);
   out.timings.cpu_total_ms = threadCpuMs() - cpu_start;
   last_good_p_ = out.p_WB;
@@ -744,6 +754,9 @@ void SlidingWindowEstimator::solve(EstimatorOutput* out) {
   ceres::Solve(so, &problem, &summary);
   out->solver_iterations = static_cast<int>(summary.iterations.size()) - 1;
   out->timings.solve_ms = msSince(t1);
+  if (summary.termination_type == ceres::FAILURE || summary.termination_type == ceres::NO_CONVERGENCE)
+    spdlog::debug("{}solve at t={}: {} ({})", kLog, newest().t, ceres::TerminationTypeToString(summary.termination_type),
+                  summary.message);
 }
 
 void SlidingWindowEstimator::removeOutliers(EstimatorOutput* out) {

@@ -21,7 +21,7 @@ namespace ev = mcvio::evaluation;
 
 }  // namespace
 
-void addBenchCommand(CLI::App& app, CommandContext&) {
+void addBenchCommand(CLI::App& app, CommandContext& ctx) {
   struct Options {
     std::string out, level = "features", config, semi_real;
     double overlay_onset_s = 5.0, overlay_duration_s = 4.0;
@@ -120,7 +120,7 @@ void addBenchCommand(CLI::App& app, CommandContext&) {
   cmd->add_flag("-q,--quiet", opt->quiet, "no progress lines and no printed report");
   cmd->add_flag("-v,--verbose", opt->verbose, "estimator log messages (conflict intervals, resets) on stderr");
 
-  cmd->callback([opt, cmd] {
+  cmd->callback([opt, cmd, &ctx] {
     ev::BenchmarkOptions o = opt->quick ? ev::BenchmarkOptions::quick() : ev::BenchmarkOptions{};
     auto given = [&](const char* name) { return cmd->get_option(name)->count() > 0; };
     if (given("--modes")) o.modes = opt->modes;
@@ -145,7 +145,7 @@ void addBenchCommand(CLI::App& app, CommandContext&) {
       o.estimator = pipeline::VioPipelineOptions::fromYamlFile(opt->config).estimator;
     const ev::BenchmarkSuite suite(o);  // validates: std::invalid_argument -> exit 2 naming the option
 
-    spdlog::set_level(opt->verbose ? spdlog::level::info : spdlog::level::err);
+    if (ctx.log_level.empty()) spdlog::set_level(opt->verbose ? spdlog::level::info : spdlog::level::err);
     const std::size_t sequences =
         suite.plan().size() + (opt->level == "images" ? (opt->semi_real.empty() ? 0 : 1) + opt->real.size() : 0);
     if (opt->level != "images" && (!opt->semi_real.empty() || !opt->real.empty()))

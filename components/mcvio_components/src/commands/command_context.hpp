@@ -7,11 +7,13 @@
 
 namespace mcvio::cli {
 
-/// Options every subcommand shares: which DDS domain and profile to join.
+/// Options every subcommand shares: which DDS domain and profile to join, how much to log.
 struct CommandContext {
   int domain_id = 0;
   std::string profiles_file;
   std::string profile_name;
+  /// spdlog level name from --log-level or $MCVIO_LOG_LEVEL; empty: the command's default.
+  std::string log_level;
 
   /// ParticipantOptions for a participant of this command (validated when created).
   dds::ParticipantOptions participantOptions(const std::string& name) const;
