@@ -20,6 +20,9 @@ expect 2 "unknown command 'no_such_command' (commands: topics" -- "$mcvio" no_su
 expect 2 "unknown command 'no_such_command'" -- "$mcvio" --domain "$domain" no_such_command
 expect 106 "A subcommand is required" -- "$mcvio" --domain "$domain"
 expect 105 "--log-level: loud not in {trace,debug,info,warn,error,off}" -- "$mcvio" --log-level loud topics --wait 0.1
+# Global options may follow the command too.
+expect 105 "--log-level: loud not in {trace,debug,info,warn,error,off}" -- "$mcvio" topics --wait 0.1 --log-level loud
+expect 2 "domain id 300 is out of range" -- "$mcvio" topics --wait 0.1 --domain 300
 expect 2 "MCVIO_LOG_LEVEL: unknown level 'loud'" -- env MCVIO_LOG_LEVEL=loud "$mcvio" --domain "$domain" topics --wait 0.1
 touch "$tmp/a_file"
 expect 2 "output folder '$tmp/a_file/out': cannot create it" -- "$mcvio" run --dataset "$tmp/missing" --out "$tmp/a_file/out"

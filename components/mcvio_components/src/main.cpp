@@ -52,6 +52,9 @@ int main(int argc, char** argv) {
       "  mcvio bench --out DIR             the MC-VIO benchmark suite: every scenario and mode, one report",
       "mcvio"};
   app.require_subcommand(1);
+  // Global options may also follow the command (`mcvio run ... --log-level debug`), as with
+  // `ros2 run ... --ros-args --log-level debug`; subcommands inherit this.
+  app.fallthrough();
   CommandContext ctx;
   if (const char* d = std::getenv("ROS_DOMAIN_ID"); d && *d) ctx.domain_id = std::atoi(d);
   if (const char* p = std::getenv("MCVIO_DDS_PROFILES"); p && *p) ctx.profiles_file = p;
