@@ -26,4 +26,40 @@ expect 2 "domain id 300 is out of range" -- "$mcvio" topics --wait 0.1 --domain 
 expect 2 "MCVIO_LOG_LEVEL: unknown level 'loud'" -- env MCVIO_LOG_LEVEL=loud "$mcvio" --domain "$domain" topics --wait 0.1
 touch "$tmp/a_file"
 expect 2 "output folder '$tmp/a_file/out': cannot create it" -- "$mcvio" run --dataset "$tmp/missing" --out "$tmp/a_file/out"
+# Found by a bad-input audit (2026-11-29): each was accepted, hung or said something unrelated.
+expect 2 "ROS_DOMAIN_ID='abc' is not a domain id" -- env ROS_DOMAIN_ID=abc "$mcvio" topics --wait 0.1
+# A one-second clean sequence (its conflict defaults, 20 s in, used to be checked against its length).
+expect 0 "21 stereo frames (0 in conflict)" -- "$mcvio" sim --duration 1 --out "$tmp/tiny"
+expect 2 "$tmp: is a folder, not a pipeline config file" -- "$mcvio" run --dataset "$tmp/tiny" --out "$tmp/o" --config "$tmp"
+printf 'estimator:\n  keyframe_window_size: 100000000\n' > "$tmp/window.yaml"
+expect 2 "keyframe_window_size' must be in [1, 1000]" -- "$mcvio" run --dataset "$tmp/tiny" --out "$tmp/o" --config "$tmp/window.yaml"
+printf 'frontend:\n  ransac_iterations: 2000000000\n' > "$tmp/ransac.yaml"
+expect 2 "ransac_iterations' must be in [1, 100000]" -- "$mcvio" run --dataset "$tmp/tiny" --out "$tmp/o" --config "$tmp/ransac.yaml"
+expect 2 "scenario.onset_s' must not be negative" -- "$mcvio" sim --scenario elevator --onset -5 --out "$tmp/sim"
+expect 2 "scenario.coverage' must be in (0, 1]" -- "$mcvio" sim --scenario self_occlusion --coverage nan --out "$tmp/sim"
+expect 2 "depth_m' must be in [0.1, 100]" -- "$mcvio" inject --depth -1 "$tmp/missing" "$tmp/injected"
+# A config without center_m keeps its default (it used to be required); an onset after the input's end is refused.
+printf 'depth_m: 2.0\nonset_s: 50\n' > "$tmp/inject.yaml"
+expect 2 "option 'onset_s' (50.000000 s) is after the end of $tmp/tiny" -- "$mcvio" inject --config "$tmp/inject.yaml" "$tmp/tiny" "$tmp/injected"
+expect 105 "--duration: 'nan' must be a finite number >= 0" -- "$mcvio" record -o "$tmp/bag" --duration nan
+expect 2 "invalid topic name 'bad topic'" -- "$mcvio" --domain "$domain" record -o "$tmp/bag" "bad topic"
+expect 2 "-o/--output is empty" -- "$mcvio" --domain "$domain" record -o "" /imu0
+expect 2 "$tmp/no_bag: no such bag directory or file" -- "$mcvio" bag info "$tmp/no_bag"
+expect 105 "--wait: Value 1e300 not in range" -- "$mcvio" --domain "$domain" nodes --wait 1e300
+expect 105 "--timeout: 'nan' must be a finite number > 0" -- "$mcvio" --domain "$domain" echo /imu0 --timeout nan
+# The offline commands end on the first SIGTERM; only the bus commands turn it into a clean stop.
+"$mcvio" sim --duration 60 --out "$tmp/sig" > "$tmp/sig.txt" 2>&1 &
+pid=$!
+sleep 2
+kill -TERM $pid
+for _ in $(seq 1 50); do kill -0 $pid 2>/dev/null || break; sleep 0.1; done
+if kill -0 $pid 2>/dev/null; then
+  echo "FAIL: mcvio sim still runs 5 s after SIGTERM"
+  kill -KILL $pid
+  failed=1
+else
+  wait $pid
+  rc=$?
+  if [ $rc -eq 143 ]; then echo "ok: mcvio sim ended on SIGTERM (143)"; else echo "FAIL: mcvio sim exited $rc after SIGTERM (want 143)"; failed=1; fi
+fi
 exit $failed

@@ -1,5 +1,6 @@
 #include "mcvio/components/bag_player.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <iostream>
 #include <map>
@@ -65,14 +66,17 @@ PlaybackSummary BagPlayer::run() {
     ProgressBar bar("play", total, options_.progress);
     const auto pass_start = Clock::now();
     Timestamp t_first = -1;
-    std::size_t done = 0, position = 0;
+    std::size_t done = 0, position = 0, in_range = 0;
+    Timestamp t_end = -1;
     std::optional<PlaybackPacer> pacer;
     bool warned_backwards = false;
     bag::BagMessage m;
     while (!dds::ShutdownSignal::requested() && reader.next(m)) {
       ++position;
       if (t_first < 0) t_first = m.log_time + fromSeconds(options_.start_s);
+      t_end = std::max(t_end, m.log_time);
       if (m.log_time < t_first) continue;
+      ++in_range;
       if (options_.duration_s > 0 && m.log_time > t_first + fromSeconds(options_.duration_s)) break;
       if (!options_.lossless) {
         if (!pacer) pacer.emplace(t_first, options_.rate, options_.max_gap_s);
@@ -105,6 +109,10 @@ PlaybackSummary BagPlayer::run() {
       summary.data_seconds = toSeconds(m.log_time - t_first);
     }
     bar.finish();
+    if (in_range == 0 && position > 0 && options_.start_s > 0 && !dds::ShutdownSignal::requested())
+      throw InputError("play: --start " + std::to_string(options_.start_s) + " s is past the end of " + bag_ + " (" +
+                       std::to_string(toSeconds(t_end - (t_first - fromSeconds(options_.start_s)))) +
+                       " s of recording)");
     summary.messages += done;
   } while (options_.loop && !dds::ShutdownSignal::requested());
   if (options_.lossless) {

@@ -1,5 +1,6 @@
 // mcvio: one command that fronts every component and tool.
 #include <algorithm>
+#include <cerrno>
 #include <cstdlib>
 #include <iostream>
 #include <memory>
@@ -56,7 +57,16 @@ int main(int argc, char** argv) {
   // `ros2 run ... --ros-args --log-level debug`; subcommands inherit this.
   app.fallthrough();
   CommandContext ctx;
-  if (const char* d = std::getenv("ROS_DOMAIN_ID"); d && *d) ctx.domain_id = std::atoi(d);
+  if (const char* d = std::getenv("ROS_DOMAIN_ID"); d && *d) {
+    char* end = nullptr;
+    errno = 0;
+    const long id = std::strtol(d, &end, 10);
+    if (*end != '\0' || errno != 0 || id < 0 || id > 232) {
+      std::cerr << "mcvio: ROS_DOMAIN_ID='" << d << "' is not a domain id (0..232)\n";
+      return 2;
+    }
+    ctx.domain_id = static_cast<int>(id);
+  }
   if (const char* p = std::getenv("MCVIO_DDS_PROFILES"); p && *p) ctx.profiles_file = p;
   app.add_option("--domain", ctx.domain_id,
                  "DDS domain id, 0..232 (default: $ROS_DOMAIN_ID or 0); must match the ROS 2 tools' domain")
@@ -73,7 +83,11 @@ int main(int argc, char** argv) {
                  "mcvio --log-level debug run --dataset DIR --out OUT -q 2> frames.log")
       ->check(CLI::IsMember(kLogLevels));
   // Runs after parsing, before the chosen command's callback: the level holds for all its work.
-  app.parse_complete_callback([&ctx, &kLogLevels] {
+  app.parse_complete_callback([&app, &ctx, &kLogLevels] {
+    // The first SIGINT/SIGTERM asks for a clean stop (bags closed, the graph left) in the commands
+    // that poll for it; the offline ones (run, sim, eval, bench, ...) keep the default and end at once.
+    for (const char* polling : {"play", "record", "echo", "frontend", "backend", "demo", "bus-demo"})
+      if (app.got_subcommand(polling)) mcvio::dds::ShutdownSignal::install();
     if (ctx.log_level.empty()) return;
     if (std::find(kLogLevels.begin(), kLogLevels.end(), ctx.log_level) == kLogLevels.end())
       throw CommandExit{2, "MCVIO_LOG_LEVEL: unknown level '" + ctx.log_level + "' (trace, debug, info, warn, error, off)"};
@@ -93,7 +107,6 @@ int main(int argc, char** argv) {
   addFrontendCommand(app, ctx);
   addBackendCommand(app, ctx);
   addRunCommand(app, ctx);
-  mcvio::dds::ShutdownSignal::install();
   // CLI11 answers an unknown command with "A subcommand is required"; name it and the known ones.
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];

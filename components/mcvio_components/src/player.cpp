@@ -33,10 +33,10 @@ struct Player::Publishers {
 
 void PlayerOptions::validate() const {
   if (!(rate > 0.0)) throw std::invalid_argument("player: rate must be > 0, got " + std::to_string(rate));
-  if (wait_for_readers_s < 0) throw std::invalid_argument("player: wait_for_readers_s must be >= 0");
+  if (!(wait_for_readers_s >= 0 && wait_for_readers_s <= 86400)) throw std::invalid_argument("player: wait_for_readers_s must be in [0, 86400]");
   if (min_readers < 0) throw std::invalid_argument("player: min_readers must be >= 0");
-  if (settle_s < 0) throw std::invalid_argument("player: settle_s must be >= 0");
-  if (start_s < 0 || duration_s < 0) throw std::invalid_argument("player: start_s and duration_s must be >= 0");
+  if (!(settle_s >= 0 && settle_s <= 60)) throw std::invalid_argument("player: settle_s must be in [0, 60]");
+  if (!(start_s >= 0) || !(duration_s >= 0)) throw std::invalid_argument("player: start_s and duration_s must be >= 0");
   if (!(max_gap_s >= 0)) {
     throw std::invalid_argument("player: max_gap_s must be >= 0 (0 = never shorten a gap), got " + std::to_string(max_gap_s));
   }
@@ -63,17 +63,6 @@ Player::~Player() = default;
 PlaybackSummary Player::run() {
   using Clock = std::chrono::steady_clock;
   PlaybackSummary summary;
-  if (options_.wait_for_readers_s > 0 && options_.min_readers > 0) {
-    const auto timeout = std::chrono::milliseconds(static_cast<int>(options_.wait_for_readers_s * 1000));
-    for (auto* p : pubs_->all()) {
-      if (!p->waitForReaders(options_.min_readers, timeout) && options_.lossless) {
-        throw std::runtime_error("player: no reader of " + p->topic() + " within " +
-                                 std::to_string(options_.wait_for_readers_s) +
-                                 " s; lossless playback needs its readers before it starts");
-      }
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int>(options_.settle_s * 1000)));
-  }
   // One time line of frames, IMU samples and ground truth, in time order (frames first on ties,
   // as a camera driver's image and the IMU sample of the same instant).
   enum Kind : std::uint8_t { kFrame, kImu, kGroundTruth };
@@ -95,6 +84,20 @@ PlaybackSummary Player::run() {
   const auto begin = std::lower_bound(events.begin(), events.end(), t_first, [](const Event& e, Timestamp t) { return e.t < t; });
   const auto end = std::upper_bound(events.begin(), events.end(), t_last, [](Timestamp t, const Event& e) { return t < e.t; });
   const std::size_t total = static_cast<std::size_t>(end - begin);
+  if (total == 0 && options_.start_s > 0)
+    throw InputError("player: --start " + std::to_string(options_.start_s) + " s is past the end of " + data_.root() +
+                     " (" + std::to_string(toSeconds(events.back().t - events.front().t)) + " s of data)");
+  if (options_.wait_for_readers_s > 0 && options_.min_readers > 0) {
+    const auto timeout = std::chrono::milliseconds(static_cast<int>(options_.wait_for_readers_s * 1000));
+    for (auto* p : pubs_->all()) {
+      if (!p->waitForReaders(options_.min_readers, timeout) && options_.lossless) {
+        throw std::runtime_error("player: no reader of " + p->topic() + " within " +
+                                 std::to_string(options_.wait_for_readers_s) +
+                                 " s; lossless playback needs its readers before it starts");
+      }
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int>(options_.settle_s * 1000)));
+  }
 
   const auto wall_start = Clock::now();
   do {

@@ -312,6 +312,10 @@ Compression checkMetadataFields(const BagMetadata& m, const std::string& md,
                                 std::vector<std::string>& warn) {
   if (m.version > 9) warn.push_back(md + ": version " + std::to_string(m.version) + " is newer than the known 5..9");
   if (m.duration < 0) warn.push_back(md + ": negative duration " + std::to_string(m.duration) + " ns");
+  if (m.storage_identifier != "mcap" && m.storage_identifier != "sqlite3") {
+    warn.push_back(md + ": unknown storage_identifier '" + m.storage_identifier +
+                   "' (expected mcap or sqlite3; `mcvio play` refuses the bag)");
+  }
   for (const auto& t : m.topics_with_message_count) {
     if (t.topic.serialization_format != "cdr") {
       warn.push_back(md + ": topic " + t.topic.name + ": unknown serialization_format '" +

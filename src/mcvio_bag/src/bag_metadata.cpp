@@ -2,8 +2,10 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <system_error>
 
 #include "mcvio/core/input_error.hpp"
 
@@ -206,6 +208,8 @@ BagMetadata parseMetadata(const std::string& yaml, const std::string& source) {
 
 BagMetadata readBagMetadata(const std::filesystem::path& bag_dir) {
   const auto path = bag_dir / kMetadataFileName;
+  std::error_code ec;
+  if (!std::filesystem::exists(bag_dir, ec)) throw InputError(bag_dir.string() + ": no such bag directory or file");
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     throw InputError(path.string() + ": missing metadata.yaml (`mcvio bag reindex " +

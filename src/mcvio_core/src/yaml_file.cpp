@@ -1,6 +1,8 @@
 #include "mcvio/core/yaml_file.hpp"
 
+#include <filesystem>
 #include <map>
+#include <system_error>
 
 #include "mcvio/core/input_error.hpp"
 
@@ -46,6 +48,9 @@ YAML::Node parseYamlText(const std::string& text, const std::string& source) {
 }
 
 YAML::Node loadYamlFile(const std::string& path, const std::string& what) {
+  // yaml-cpp opens a folder as an empty stream and then fails inside the C++ library's reader.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": is a folder, not a " + what);
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);

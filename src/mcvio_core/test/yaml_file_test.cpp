@@ -41,6 +41,8 @@ TEST(YamlFile, MissingAndMalformedFilesNameTheFile) {
   const std::string dup = (dir / "dup.yaml").string();
   std::ofstream(dup) << "a: 1\nb: 2\na: 3\n";
   EXPECT_EQ(errorOf([&] { loadYamlFile(dup, "options file"); }).rfind(dup + ":3: key 'a' appears twice", 0), 0u);
+  EXPECT_EQ(errorOf([&] { loadYamlFile(dir.string(), "options file"); }),
+            dir.string() + ": is a folder, not a options file");
   std::filesystem::remove_all(dir);
 }
 

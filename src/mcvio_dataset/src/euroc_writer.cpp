@@ -41,7 +41,7 @@ EurocWriter::EurocWriter(const std::string& dir, const StereoRigCalibration& cal
   std::error_code ec;
   if (fs::exists(mav0, ec)) {
     if (!options.overwrite) {
-      throw InputError(mav0.string() + ": already exists (set Options::overwrite to replace it)");
+      throw InputError(mav0.string() + ": already exists (--overwrite, or overwrite: true in the options, replaces it)");
     }
     fs::remove_all(mav0, ec);
     if (ec) throw InputError(mav0.string() + ": cannot remove: " + ec.message());

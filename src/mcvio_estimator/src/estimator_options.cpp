@@ -19,8 +19,11 @@ void require(bool ok, const char* key, const std::string& rule, double value) {
 }  // namespace
 
 void EstimatorOptions::validate() const {
-  require(imu_window_size >= 2, "imu_window_size", "must be >= 2", imu_window_size);
-  require(keyframe_window_size >= 1, "keyframe_window_size", "must be >= 1", keyframe_window_size);
+  // Upper bounds keep a typo from allocating the window's pools until the machine runs out.
+  require(imu_window_size >= 2 && imu_window_size <= 1000, "imu_window_size", "must be in [2, 1000]",
+          imu_window_size);
+  require(keyframe_window_size >= 1 && keyframe_window_size <= 1000, "keyframe_window_size",
+          "must be in [1, 1000]", keyframe_window_size);
   require(keyframe_parallax_px > 0, "keyframe_parallax_px", "must be > 0", keyframe_parallax_px);
   require(keyframe_tracked_fraction > 0 && keyframe_tracked_fraction <= 1, "keyframe_tracked_fraction",
           "must be in (0, 1]", keyframe_tracked_fraction);
@@ -38,7 +41,7 @@ void EstimatorOptions::validate() const {
   require(repropagate_accel_bias_change > 0, "repropagate_accel_bias_change", "must be > 0",
           repropagate_accel_bias_change);
   require(max_imu_gap_s > 0, "max_imu_gap_s", "must be > 0", max_imu_gap_s);
-  require(max_iterations >= 1, "max_iterations", "must be >= 1", max_iterations);
+  require(max_iterations >= 1 && max_iterations <= 10000, "max_iterations", "must be in [1, 10000]", max_iterations);
   require(function_tolerance > 0 && function_tolerance < 1, "function_tolerance", "must be in (0, 1)",
           function_tolerance);
   require(conflict_function_tolerance > 0 && conflict_function_tolerance < 1, "conflict_function_tolerance",
@@ -46,7 +49,7 @@ void EstimatorOptions::validate() const {
   require(model_agreement_settle_s >= 0 && std::isfinite(model_agreement_settle_s), "model_agreement_settle_s",
           "must be >= 0", model_agreement_settle_s);
   require(max_solver_time_s > 0, "max_solver_time_s", "must be > 0", max_solver_time_s);
-  require(num_threads >= 1, "num_threads", "must be >= 1", num_threads);
+  require(num_threads >= 1 && num_threads <= 1024, "num_threads", "must be in [1, 1024]", num_threads);
   require(init_window_s > 0, "init_window_s", "must be > 0", init_window_s);
   require(static_gyro_std_max > 0, "static_gyro_std_max", "must be > 0", static_gyro_std_max);
   require(static_accel_std_max > 0, "static_accel_std_max", "must be > 0", static_accel_std_max);

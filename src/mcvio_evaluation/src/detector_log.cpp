@@ -182,6 +182,8 @@ DetectorLog DetectorLog::load(const std::string& path) {
     }
     records.push_back(std::move(r));
   }
+  if (headerless && records.empty())
+    throw InputError(path + ": is empty (no header, no rows); was the run that wrote it interrupted?");
   return DetectorLog(std::move(records), std::move(columns), path);
 }
 

@@ -114,6 +114,11 @@ Trajectory loadTum(const std::string& path, EmptyTum empty) {
                          "' is not finite");
       }
     }
+    // 9.2e9 s is where nanoseconds leave int64; a time past it is nanoseconds written as seconds.
+    if (std::abs(v[0]) > 9.0e9) {
+      throw InputError(where + "field 't': " + std::string(fields[0]) +
+                       " s is out of range (TUM times are seconds; nanoseconds?)");
+    }
     if (!parseSecondsExact(fields[0], pose.t)) pose.t = fromSeconds(v[0]);
     pose.p = {v[1], v[2], v[3]};
     pose.q = Eigen::Quaterniond(v[7], v[4], v[5], v[6]);

@@ -361,6 +361,8 @@ TEST(DetectorLog, MalformedLinesNameFileLineAndColumn) {
   EXPECT_NE(e.find("interval_onset_ns"), std::string::npos) << e;
 
   EXPECT_THROW(DetectorLog::load(test::freshDir("det_missing") + "/conflict.csv"), InputError);
+  e = loadError("det_empty", "", &path);
+  EXPECT_NE(e.find(path + ": is empty"), std::string::npos) << e;
 }
 
 }  // namespace

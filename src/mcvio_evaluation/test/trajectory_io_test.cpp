@@ -74,6 +74,10 @@ TEST(TrajectoryIo, MalformedTumLinesNameFileLineAndField) {
   EXPECT_NE(e.find(path + ":3:"), std::string::npos) << e;
   EXPECT_NE(e.find("does not increase"), std::string::npos) << e;
 
+  e = tumError("tum_nanoseconds", "1600000000050000000 0 0 0 0 0 0 1\n", &path);
+  EXPECT_NE(e.find(path + ":1:"), std::string::npos) << e;
+  EXPECT_NE(e.find("nanoseconds?"), std::string::npos) << e;
+
   e = tumError("tum_quaternion", "1 0 0 0 0 0 0 2\n", &path);
   EXPECT_NE(e.find(path + ":1:"), std::string::npos) << e;
   EXPECT_NE(e.find("norm"), std::string::npos) << e;

@@ -18,7 +18,8 @@ void require(bool ok, const std::string& key, const std::string& rule) {
 }  // namespace
 
 void FrontendOptions::validate() const {
-  require(max_features > 0, "max_features", "must be > 0");
+  // Upper bounds keep a typo (an extra digit or three) from allocating or looping for hours.
+  require(max_features > 0 && max_features <= 100000, "max_features", "must be in [1, 100000]");
   require(std::isfinite(moving_track_budget_share) && moving_track_budget_share >= 0 && moving_track_budget_share <= 1,
           "moving_track_budget_share", "must be in [0, 1]");
   require(grid_cols > 0 && grid_cols <= 64, "grid_cols", "must be in [1, 64]");
@@ -34,7 +35,7 @@ void FrontendOptions::validate() const {
           "must be in [0, 8]");
   require(window_size >= 5 && window_size <= 61 && window_size % 2 == 1, "window_size",
           "must be odd and in [5, 61]");
-  require(klt_max_iterations > 0, "klt_max_iterations", "must be > 0");
+  require(klt_max_iterations > 0 && klt_max_iterations <= 1000, "klt_max_iterations", "must be in [1, 1000]");
   require(klt_epsilon > 0 && std::isfinite(klt_epsilon), "klt_epsilon", "must be > 0");
   require(fb_threshold_px > 0 && std::isfinite(fb_threshold_px), "fb_threshold_px", "must be > 0");
   require(exposure_normalization == "none" || exposure_normalization == "global" ||
@@ -55,7 +56,7 @@ void FrontendOptions::validate() const {
           "must be > min_depth_m");
   require(ransac_threshold_px > 0 && std::isfinite(ransac_threshold_px), "ransac_threshold_px",
           "must be > 0");
-  require(ransac_iterations > 0, "ransac_iterations", "must be > 0");
+  require(ransac_iterations > 0 && ransac_iterations <= 100000, "ransac_iterations", "must be in [1, 100000]");
   require(min_tracks_for_check >= 5, "min_tracks_for_check", "must be >= 5");
   require(reidentify_min_age_s >= 0 && reidentify_min_age_s < reidentify_max_age_s, "reidentify_min_age_s",
           "must be >= 0 and below reidentify_max_age_s");
@@ -63,7 +64,7 @@ void FrontendOptions::validate() const {
   require(reidentify_max_hamming >= 0 && reidentify_max_hamming <= 256, "reidentify_max_hamming",
           "must be in [0, 256]");
   require(reidentify_ratio > 0 && reidentify_ratio <= 1, "reidentify_ratio", "must be in (0, 1]");
-  require(history_length >= 1, "history_length", "must be >= 1");
+  require(history_length >= 1 && history_length <= 10000, "history_length", "must be in [1, 10000]");
 }
 
 FrontendOptions FrontendOptions::fromYaml(const YAML::Node& node, const std::string& context) {

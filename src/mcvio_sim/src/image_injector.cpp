@@ -28,7 +28,7 @@ InjectOptions InjectOptions::fromYaml(const YAML::Node& node) {
   {
     // center_m is two numbers; read it as such for a precise error message.
     const YAML::Node c = f.child("center_m");
-    if (c) {
+    if (c && !c.IsNull()) {  // child() gives a null node when the key is absent
       if (!c.IsSequence() || c.size() != 2) throw InputError("option 'center_m' must be a list of 2 numbers");
       try {
         centre = {c[0].as<double>(), c[1].as<double>(), 0.0};
@@ -144,6 +144,10 @@ InjectSummary runInjection(const InjectOptions& options,
     throw InputError("option 'output_dir' must differ from 'input_dir' (" + options.output_dir + ")");
   const auto data = dataset::EurocDataset::open(options.input_dir);
   if (data.stereoFrames().empty()) throw InputError(options.input_dir + ": no stereo frames to inject into");
+  const double input_s = toSeconds(data.stereoFrames().back().t - data.stereoFrames().front().t);
+  if (options.onset_s > input_s)
+    throw InputError("option 'onset_s' (" + std::to_string(options.onset_s) + " s) is after the end of " +
+                     options.input_dir + " (" + std::to_string(input_s) + " s of stereo frames)");
   const ImageInjector injector(options, data.calibration());
   dataset::EurocWriter::Options wo;
   wo.overwrite = options.overwrite;

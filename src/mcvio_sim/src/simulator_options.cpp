@@ -88,7 +88,7 @@ void SimulatorOptions::validate() const {
   requireRange(png_compression >= 0 && png_compression <= 9, "image.png_compression", "must be in [0, 9]");
   requireRange(groundtruth_csv.empty() == imu_csv.empty(), groundtruth_csv.empty() ? "semi_real.groundtruth_csv" : "semi_real.imu_csv",
                "must be set together with the other semi_real file");
-  if (!semiReal())
+  if (!semiReal() && scenario.kind != ScenarioKind::kNone)
     requireRange(scenario.onset_s + scenario.duration_s <= duration_s + 1e-9, "scenario.duration_s",
                  "makes the conflict end after the sequence (onset_s + duration_s > duration_s)");
 }

@@ -177,8 +177,10 @@ TEST(SimulatorOptions, YamlKeysAreReadAndMistakesAreNamed) {
   EXPECT_NE(message("image: {noise_sigmaa: 1}").find("image.noise_sigmaa"), std::string::npos);
   EXPECT_NE(message("duration_s: abc").find("duration_s"), std::string::npos);
   EXPECT_NE(message("imu: {initial_gyro_bias: [1, 2]}").find("imu.initial_gyro_bias"), std::string::npos);
-  EXPECT_NE(message("duration_s: 10\nscenario: {onset_s: 8, duration_s: 5}").find("scenario.duration_s"),
+  EXPECT_NE(message("duration_s: 10\nscenario: {kind: elevator, onset_s: 8, duration_s: 5}").find("scenario.duration_s"),
             std::string::npos);
+  // A clean sequence has no conflict to end after it (the default 20 + 15 s once refused 10 s).
+  EXPECT_EQ(message("duration_s: 10\nscenario: {kind: none}"), "no error");
   EXPECT_NE(message("semi_real: {imu_csv: x.csv}").find("semi_real.groundtruth_csv"), std::string::npos);
 }
 

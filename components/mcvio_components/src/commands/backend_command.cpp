@@ -56,16 +56,16 @@ void addBackendCommand(CLI::App& app, CommandContext& ctx) {
       ->capture_default_str();
   cmd->add_option("--landmarks-every", opt->component.landmarks_every_n_frames,
                   "publish /mcvio/landmarks every N estimated frames, 0 = never, e.g. --landmarks-every 5")
-      ->check(CLI::NonNegativeNumber)
+      ->check(finiteAtLeastZero())
       ->capture_default_str();
   cmd->add_option("--path-max", opt->component.max_path_poses,
                   "keep the newest N poses in /mcvio/path and /mcvio/secondary_path, 0 = all (every message\n"
                   "grows with the run)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(finiteAtLeastZero())
       ->capture_default_str();
   cmd->add_option("--max-imu-wait", opt->component.max_imu_wait_s,
                   "without --lossless: a frame waits at most this long for /imu0 to reach its stamp [s]")
-      ->check(CLI::NonNegativeNumber)
+      ->check(finiteAtLeastZero())
       ->capture_default_str();
   cmd->callback([opt, &ctx] {
     auto o = opt->component;

@@ -1,4 +1,5 @@
 #pragma once
+#include <cmath>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -34,6 +35,19 @@ void addBagCommand(CLI::App& app, CommandContext& ctx);
 void addFrontendCommand(CLI::App& app, CommandContext& ctx);
 void addBackendCommand(CLI::App& app, CommandContext& ctx);
 void addRunCommand(CLI::App& app, CommandContext& ctx);
+
+/// CLI11's NonNegativeNumber lets NaN through (NaN < 0 is false): a finite number >= 0 (or > 0).
+inline CLI::Validator finiteAtLeastZero(bool zero_allowed = true) {
+  return CLI::Validator(
+      [zero_allowed](std::string& text) -> std::string {
+        double v = 0;
+        if (!CLI::detail::lexical_cast(text, v)) return "'" + text + "' is not a number";
+        if (!std::isfinite(v) || v < 0 || (!zero_allowed && v == 0))
+          return "'" + text + "' must be a finite number " + (zero_allowed ? ">= 0" : "> 0");
+        return {};
+      },
+      zero_allowed ? "NUMBER >= 0" : "NUMBER > 0");
+}
 
 /// Thrown by a command to end with `code` after printing `what()` (if not empty) to stderr.
 struct CommandExit {

@@ -50,9 +50,13 @@ void addEchoCommand(CLI::App& app, CommandContext& ctx) {
                                  "  mcvio echo /mcvio/odometry --type nav_msgs/msg/Odometry");
   cmd->add_option("topic", opt->topic, "ROS 2 topic name, e.g. /imu0")->required();
   cmd->add_option("--type", opt->type, "ROS 2 type, e.g. sensor_msgs/msg/Imu (default: discovered)");
-  cmd->add_option("-n,--count", opt->count, "exit after this many messages (0 = until Ctrl-C)")->capture_default_str();
+  cmd->add_option("-n,--count", opt->count, "exit after this many messages (0 = until Ctrl-C)")
+      ->check(finiteAtLeastZero())
+      ->capture_default_str();
   cmd->add_option("--timeout", opt->timeout_s,
                   "seconds to wait for a publisher of the topic (and, with --count, for the messages)")
+      ->check(finiteAtLeastZero(false))
+      ->check(CLI::Range(0.0, 86400.0))
       ->capture_default_str();
   cmd->add_flag("--full-arrays", opt->full_arrays, "print every array element (default: the first 128)");
   cmd->callback([opt, &ctx] {

@@ -18,7 +18,10 @@ void addNodesCommand(CLI::App& app, CommandContext& ctx) {
   auto* cmd = app.add_subcommand("nodes",
                                  "List ROS 2 nodes announced on the bus (ros_discovery_info), like `ros2 node list`.\n"
                                  "Example: mcvio nodes --wait 3");
-  cmd->add_option("--wait", opt->wait_s, "seconds to listen before printing")->capture_default_str();
+  cmd->add_option("--wait", opt->wait_s, "seconds to listen before printing")
+      ->check(finiteAtLeastZero())
+      ->check(CLI::Range(0.0, 86400.0))
+      ->capture_default_str();
   cmd->add_flag("-a,--all", opt->all, "include hidden nodes (names starting with '_', like this tool's own)");
   cmd->callback([opt, &ctx] {
     dds::GraphMonitor monitor;

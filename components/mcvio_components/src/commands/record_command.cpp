@@ -9,6 +9,7 @@
 #include "mcvio/bag/compression.hpp"
 #include "mcvio/components/recorder.hpp"
 #include "mcvio/dds/shutdown_signal.hpp"
+#include "mcvio/dds/topic_names.hpp"
 
 namespace mcvio::cli {
 
@@ -37,10 +38,16 @@ void addRecordCommand(CLI::App& app, CommandContext& ctx) {
   cmd->add_option("-e,--regex", opt->regex, "record topics whose name matches this regular expression");
   cmd->add_option("-s,--storage", opt->storage, "mcap or sqlite3")->check(CLI::IsMember({"mcap", "sqlite3"}))->capture_default_str();
   cmd->add_option("--compression", opt->compression, "zstd, lz4 or none")->check(CLI::IsMember({"zstd", "lz4", "none"}))->capture_default_str();
-  cmd->add_option("--max-bag-size", opt->max_size, "split into a new file after this many bytes (0 = never)");
-  cmd->add_option("--max-bag-duration", opt->max_duration, "split into a new file after this many seconds (0 = never)");
-  cmd->add_option("--duration", opt->duration, "stop after this many seconds (0 = until Ctrl-C)");
+  cmd->add_option("--max-bag-size", opt->max_size, "split into a new file after this many bytes (0 = never)")
+      ->check(finiteAtLeastZero());
+  cmd->add_option("--max-bag-duration", opt->max_duration, "split into a new file after this many seconds (0 = never)")
+      ->check(finiteAtLeastZero());
+  cmd->add_option("--duration", opt->duration, "stop after this many seconds (0 = until Ctrl-C)")
+      ->check(finiteAtLeastZero());
   cmd->callback([opt, &ctx] {
+    if (opt->out.empty()) throw CommandExit{2, "record: -o/--output is empty; name the bag directory to create"};
+    // Before joining the bus: a misspelt name would otherwise record nothing without a word.
+    for (const auto& t : opt->topics) dds::validateTopicName(t);
     components::RecorderOptions ro;
     ro.topics = opt->topics;
     ro.all = opt->all;

@@ -1,4 +1,5 @@
 #include <iostream>
+#include <optional>
 
 #include "commands/command_context.hpp"
 #include "mcvio/core/progress_bar.hpp"
@@ -10,7 +11,9 @@ namespace mcvio::cli {
 void addSimCommand(CLI::App& app, CommandContext&) {
   struct Options {
     std::string config, scenario = "none", out, trajectory, imu, calib;
-    double duration = 60, onset = -1, scenario_duration = -1, coverage = -1;
+    double duration = 60;
+    // Unset unless given, so that a given value (negative, NaN) reaches validate() and is rejected.
+    std::optional<double> onset, scenario_duration, coverage;
     std::uint64_t seed = 1;
     bool overwrite = false, exact_imu = false;
   };
@@ -32,7 +35,9 @@ void addSimCommand(CLI::App& app, CommandContext&) {
   cmd->add_option("--onset", opt->onset, "conflict start, seconds after the first frame (default 20)");
   cmd->add_option("--scenario-duration", opt->scenario_duration, "conflict length [s] (default 15)");
   cmd->add_option("--coverage", opt->coverage, "fraction of the view the conflicting motion covers (default 0.7)");
-  cmd->add_option("--seed", opt->seed, "random seed (world, textures, noise)")->capture_default_str();
+  cmd->add_option("--seed", opt->seed, "random seed (world, textures, noise)")
+      ->check(finiteAtLeastZero())
+      ->capture_default_str();
   cmd->add_option("--out", opt->out, "output EuRoC folder")->required();
   cmd->add_flag("--overwrite", opt->overwrite, "replace an existing output");
   cmd->add_flag("--exact-imu", opt->exact_imu, "no IMU noise or bias random walk");
@@ -46,9 +51,9 @@ void addSimCommand(CLI::App& app, CommandContext&) {
     o.seed = opt->seed;
     o.duration_s = opt->duration;
     o.scenario.kind = sim::scenarioKindFromString(opt->scenario);
-    if (opt->onset >= 0) o.scenario.onset_s = opt->onset;
-    if (opt->scenario_duration >= 0) o.scenario.duration_s = opt->scenario_duration;
-    if (opt->coverage >= 0) o.scenario.coverage = opt->coverage;
+    if (opt->onset) o.scenario.onset_s = *opt->onset;
+    if (opt->scenario_duration) o.scenario.duration_s = *opt->scenario_duration;
+    if (opt->coverage) o.scenario.coverage = *opt->coverage;
     if (opt->exact_imu) o.imu_noise_enabled = false;
     if (!opt->trajectory.empty()) o.groundtruth_csv = opt->trajectory;
     if (!opt->imu.empty()) o.imu_csv = opt->imu;
@@ -70,7 +75,7 @@ void addSimCommand(CLI::App& app, CommandContext&) {
 void addInjectCommand(CLI::App& app, CommandContext&) {
   struct Options {
     std::string config, scenario = "overlay", in, out;
-    double onset = -1, duration = -1, depth = -1;
+    std::optional<double> onset, duration, depth;
     bool overwrite = false;
   };
   auto opt = std::make_shared<Options>();
@@ -94,12 +99,12 @@ void addInjectCommand(CLI::App& app, CommandContext&) {
     o.input_dir = opt->in;
     o.output_dir = opt->out;
     o.overwrite = o.overwrite || opt->overwrite;
-    if (opt->onset >= 0) o.onset_s = opt->onset;
-    if (opt->duration >= 0) o.duration_s = opt->duration;
-    if (opt->depth > 0) o.depth_m = opt->depth;
+    if (opt->onset) o.onset_s = *opt->onset;
+    if (opt->duration) o.duration_s = *opt->duration;
+    if (opt->depth) o.depth_m = *opt->depth;
     if (opt->scenario == "occluder") {
       // An occluder is a large plane close to the rig that barely moves: it hides, not misleads.
-      o.depth_m = opt->depth > 0 ? opt->depth : 0.5;
+      o.depth_m = opt->depth ? *opt->depth : 0.5;
       o.width_m = 1.2;
       o.height_m = 0.9;
       o.velocity_mps = Eigen::Vector3d(0.02, 0.0, 0.0);

@@ -18,7 +18,10 @@ void addTopicsCommand(CLI::App& app, CommandContext& ctx) {
   auto* cmd = app.add_subcommand("topics",
                                  "List topics on the bus with their ROS 2 types, like `ros2 topic list -t`.\n"
                                  "Example: mcvio topics --verbose");
-  cmd->add_option("--wait", opt->wait_s, "seconds to listen for discovery before printing")->capture_default_str();
+  cmd->add_option("--wait", opt->wait_s, "seconds to listen for discovery before printing")
+      ->check(finiteAtLeastZero())
+      ->check(CLI::Range(0.0, 86400.0))
+      ->capture_default_str();
   cmd->add_flag("-v,--verbose", opt->verbose, "also print publisher/subscriber counts, offered QoS and type hash");
   cmd->add_flag("-a,--all", opt->all, "include DDS topics that are not ROS 2 topics (e.g. ros_discovery_info)");
   cmd->callback([opt, &ctx] {
