@@ -490,6 +490,32 @@ TEST(Recovery, ReindexRebuildsALostMetadataFile) {
   expectPrefix(test::readAll(dir), 200);
 }
 
+TEST(Recovery, ReindexKeepsTheReadableFilesNextToAnUnreadableOne) {
+  const auto dir = test::freshPath("one_unreadable");
+  BagWriterOptions o;
+  o.max_bagfile_size = 20000;
+  {
+    BagWriter w(dir, o);
+    writeTopicsAndMessages(w, 200);
+  }
+  const BagMetadata before = readBagMetadata(dir);
+  ASSERT_GE(before.relative_file_paths.size(), 3u);
+  const auto last = dir / before.relative_file_paths.back();
+  const std::uint64_t last_count = before.files.back().message_count;
+  {
+    std::ofstream garbage(last, std::ios::binary | std::ios::trunc);
+    garbage << "not an mcap file at all";
+  }
+  std::vector<std::string> log, damage;
+  const BagMetadata after = BagReindexer::reindex(dir, &log, &damage);
+  EXPECT_EQ(after.relative_file_paths.size(), before.relative_file_paths.size() - 1);
+  EXPECT_EQ(after.message_count, 200u - last_count);
+  ASSERT_EQ(damage.size(), 1u);
+  EXPECT_NE(damage[0].find(last.filename().string() + ": not indexed"), std::string::npos) << damage[0];
+  EXPECT_TRUE(std::filesystem::exists(last));  // left for whoever can still salvage it
+  expectPrefix(test::readAll(dir), 200 - last_count);
+}
+
 }  // namespace
 }  // namespace mcvio::bag
 

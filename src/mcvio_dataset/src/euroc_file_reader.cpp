@@ -2,6 +2,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <iomanip>
+#include <sstream>
+#include <string>
 
 #include "folder_layout.hpp"
 #include "mcvio/dataset/csv_reader.hpp"
@@ -17,6 +20,13 @@ using detail::IncreasingTime;
 namespace {
 constexpr double kMaxGyroRadPerS = 1000.0;
 constexpr double kMaxAccelMPerS2 = 10000.0;
+
+/// "1e+300", not the 300 digits std::to_string prints.
+std::string shortNumber(double v) {
+  std::ostringstream os;
+  os << std::setprecision(6) << v;
+  return os.str();
+}
 }  // namespace
 
 std::vector<ImuSample> EurocFileReader::readImu(const std::string& path, bool skip_bad_rows,
@@ -36,11 +46,11 @@ std::vector<ImuSample> EurocFileReader::readImu(const std::string& path, bool sk
     // Far beyond any MEMS range (16 g, 35 rad/s): a unit mix-up or a corrupt row, which would
     // only surface later as a failed solve.
     if (s.gyro.cwiseAbs().maxCoeff() > kMaxGyroRadPerS) {
-      row.fail("angular velocity " + std::to_string(s.gyro.cwiseAbs().maxCoeff()) + " rad/s is implausible (limit " +
+      row.fail("angular velocity " + shortNumber(s.gyro.cwiseAbs().maxCoeff()) + " rad/s is implausible (limit " +
                std::to_string(kMaxGyroRadPerS) + "; degrees instead of radians?)");
     }
     if (s.accel.cwiseAbs().maxCoeff() > kMaxAccelMPerS2) {
-      row.fail("acceleration " + std::to_string(s.accel.cwiseAbs().maxCoeff()) + " m/s^2 is implausible (limit " +
+      row.fail("acceleration " + shortNumber(s.accel.cwiseAbs().maxCoeff()) + " m/s^2 is implausible (limit " +
                std::to_string(kMaxAccelMPerS2) + ")");
     }
     time.check(row, s.t);

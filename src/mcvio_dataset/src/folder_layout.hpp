@@ -16,8 +16,10 @@ inline std::string requireDir(const std::filesystem::path& path) {
 
 inline std::string requireFile(const std::filesystem::path& path) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec))
-    throw InputError(path.string() + ": missing file");
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    throw InputError(path.string() + (std::filesystem::is_directory(path, ec) ? ": is a folder, expected a file"
+                                                                              : ": missing file"));
+  }
   return path.string();
 }
 

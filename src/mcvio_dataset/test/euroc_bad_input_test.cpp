@@ -82,6 +82,12 @@ TEST_F(EurocBadInput, MissingImuCsv) {
   EXPECT_CONTAINS(openError(), mav0_ + "/imu0/data.csv");
 }
 
+TEST_F(EurocBadInput, ImuCsvIsAFolder) {
+  fs::remove(mav0_ + "/imu0/data.csv");
+  fs::create_directory(mav0_ + "/imu0/data.csv");
+  EXPECT_CONTAINS(openError(), mav0_ + "/imu0/data.csv: is a folder, expected a file");
+}
+
 TEST_F(EurocBadInput, MissingCameraCsv) {
   fs::remove(mav0_ + "/cam0/data.csv");
   EXPECT_CONTAINS(openError(), mav0_ + "/cam0/data.csv");
@@ -139,7 +145,7 @@ TEST_F(EurocBadInput, ImuImplausibleMagnitude) {
   replaceLine(mav0_ + "/imu0/data.csv", 7, std::to_string(seq_.imu[5].t) + ",0.1,0.2,0.3,0.4,1e308,0.6");
   std::string message = openError();
   EXPECT_CONTAINS(message, mav0_ + "/imu0/data.csv:7:");
-  EXPECT_CONTAINS(message, "acceleration");
+  EXPECT_CONTAINS(message, "acceleration 1e+308 m/s^2");  // not its 309 digits
   replaceLine(mav0_ + "/imu0/data.csv", 7, std::to_string(seq_.imu[5].t) + ",0.1,5729.6,0.3,0.4,0.5,0.6");
   message = openError();
   EXPECT_CONTAINS(message, "angular velocity");

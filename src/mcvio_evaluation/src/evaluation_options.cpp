@@ -56,11 +56,11 @@ void EvaluationOptions::validate() const {
   association.validate();
   detection.validate();
   if (!(alignment.min_position_spread_m >= 0) || !std::isfinite(alignment.min_position_spread_m)) {
-    throw std::invalid_argument("alignment.min_position_spread_m must be >= 0");
+    throw std::invalid_argument("alignment.min_position_spread_m must be a finite number >= 0");
   }
-  if (!(rpe_delta_s > 0) || !std::isfinite(rpe_delta_s)) throw std::invalid_argument("rpe_delta_s must be > 0");
-  if (!(rpe_delta_m > 0) || !std::isfinite(rpe_delta_m)) throw std::invalid_argument("rpe_delta_m must be > 0");
-  if (!(rpe_tolerance >= 0) || !std::isfinite(rpe_tolerance)) throw std::invalid_argument("rpe_tolerance must be >= 0");
+  if (!(rpe_delta_s > 0) || !std::isfinite(rpe_delta_s)) throw std::invalid_argument("rpe_delta_s must be a finite number > 0");
+  if (!(rpe_delta_m > 0) || !std::isfinite(rpe_delta_m)) throw std::invalid_argument("rpe_delta_m must be a finite number > 0");
+  if (!(rpe_tolerance >= 0) || !std::isfinite(rpe_tolerance)) throw std::invalid_argument("rpe_tolerance must be a finite number >= 0");
 }
 
 }  // namespace mcvio::evaluation

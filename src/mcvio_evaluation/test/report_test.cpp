@@ -145,7 +145,7 @@ TEST(EvaluationOptions, YamlKeysAndErrors) {
   };
   EXPECT_NE(error("rpe_delta_x: 1\n").find("unknown evaluation option 'rpe_delta_x'"), std::string::npos);
   EXPECT_NE(error("rpe_delta_m: far\n").find("rpe_delta_m"), std::string::npos);
-  EXPECT_NE(error("rpe_delta_m: -1\n").find("rpe_delta_m must be > 0"), std::string::npos);
+  EXPECT_NE(error("rpe_delta_m: -1\n").find("rpe_delta_m must be a finite number > 0"), std::string::npos);
   EXPECT_NE(error("association: {method: spline}\n").find("association.method"), std::string::npos);
   EXPECT_NE(error("association: [1]\n").find("'association' must be a map"), std::string::npos);
   EXPECT_NE(error("detection: {label_tolerance: 1}\n").find("unknown evaluation option 'detection.label_tolerance'"),

@@ -125,7 +125,8 @@ void addBagCommand(CLI::App& app, CommandContext&) {
       "are dropped and reported (byte offset, size, messages lost if known). A file with damage inside\n"
       "is rewritten beside it and the untouched original kept as <file>.orig; a killed writer's file is\n"
       "finished in place (its unfinished last record cannot be read anyway). sqlite3: write-ahead\n"
-      "logs are folded in (every committed transaction is kept).\n"
+      "logs are folded in (every committed transaction is kept). A file that cannot be read at all\n"
+      "(not MCAP, a damaged database) is left in place and out of metadata.yaml; the others are indexed.\n"
       "Exit status 1 when damaged data was dropped (the bag is readable again), 0 otherwise.");
   reindex->add_option("bag", *path, "bag directory")->required();
   reindex->callback([path] {
@@ -137,7 +138,8 @@ void addBagCommand(CLI::App& app, CommandContext&) {
     std::cout << bag::bagInfo(*path);
     if (!damage.empty()) {
       throw CommandExit{1, "bag reindex: " + std::to_string(damage.size()) +
-                               " damaged stretch(es) dropped, see the WARNING lines; the originals are kept as *.orig"};
+                               " damaged stretch(es) or unreadable file(s) dropped, see the WARNING lines; nothing was "
+                               "deleted (repaired files keep their originals as *.orig)"};
     }
   });
 }

@@ -13,7 +13,9 @@ namespace mcvio::bag {
 class BagReindexer {
  public:
   /// Returns the new metadata. InputError when the directory holds no storage files, mixes
-  /// .mcap and .db3, or a file is unusable (e.g. not MCAP at all).
+  /// .mcap and .db3, or no file can be read at all. A file that cannot be read at all (e.g. not
+  /// MCAP) next to readable ones is left in place, out of the new metadata.yaml, and named in
+  /// `damage`.
   /// `log` (optional) receives one line per file describing what was done, plus where an
   /// original was kept and what a killed writer's unfinished tail lost. `damage` (optional)
   /// receives one line per damaged record that was dropped (file, byte offset, size, messages
