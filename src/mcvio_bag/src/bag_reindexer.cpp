@@ -186,6 +186,17 @@ BagMetadata BagReindexer::reindex(const std::filesystem::path& bag_dir,
       }
       FileInformation fi;
       fi.path = path.filename().string();
+      // A complete metadata.yaml from before the damage knows how many messages were lost.
+      if (have_old && log) {
+        for (const auto& before : old.files) {
+          if (before.path == fi.path && before.message_count > s.message_count) {
+            log->push_back("WARNING: " + fi.path + ": the old metadata.yaml listed " +
+                           std::to_string(before.message_count) + " messages, " +
+                           std::to_string(s.message_count) + " are readable: " +
+                           std::to_string(before.message_count - s.message_count) + " lost");
+          }
+        }
+      }
       fi.message_count = s.message_count;
       fi.starting_time = s.start_time;
       fi.duration = s.end_time - s.start_time;

@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -488,6 +489,25 @@ TEST(Recovery, ReindexRebuildsALostMetadataFile) {
   EXPECT_EQ(after.starting_time, before.starting_time);
   EXPECT_EQ(after.duration, before.duration);
   expectPrefix(test::readAll(dir), 200);
+}
+
+TEST(Recovery, ReindexCountsWhatATruncatedFileLostAgainstTheOldMetadata) {
+  const auto dir = test::freshPath("trunc_with_metadata");
+  {
+    BagWriter w(dir, BagWriterOptions{});
+    writeTopicsAndMessages(w, 200);
+  }
+  const BagMetadata before = readBagMetadata(dir);
+  ASSERT_EQ(before.files.size(), 1u);
+  const auto file = dir / before.relative_file_paths.front();
+  truncateFile(file, std::filesystem::file_size(file) / 2);
+  std::vector<std::string> log;
+  const BagMetadata after = BagReindexer::reindex(dir, &log);
+  ASSERT_LT(after.message_count, 200u);
+  const std::string expected = "the old metadata.yaml listed 200 messages, " + std::to_string(after.message_count) +
+                               " are readable: " + std::to_string(200 - after.message_count) + " lost";
+  EXPECT_TRUE(std::any_of(log.begin(), log.end(), [&](const std::string& l) { return l.find(expected) != std::string::npos; }))
+      << "want '" << expected << "' in the log";
 }
 
 TEST(Recovery, ReindexKeepsTheReadableFilesNextToAnUnreadableOne) {
