@@ -28,6 +28,7 @@ touch "$tmp/a_file"
 expect 2 "output folder '$tmp/a_file/out': cannot create it" -- "$mcvio" run --dataset "$tmp/missing" --out "$tmp/a_file/out"
 # Found by a bad-input audit (2026-11-29): each was accepted, hung or said something unrelated.
 expect 2 "ROS_DOMAIN_ID='abc' is not a domain id" -- env ROS_DOMAIN_ID=abc "$mcvio" topics --wait 0.1
+expect 0 "" -- env ROS_DOMAIN_ID=abc "$mcvio" --domain "$domain" topics --wait 0.1
 # A one-second clean sequence (its conflict defaults, 20 s in, used to be checked against its length).
 expect 0 "21 stereo frames (0 in conflict)" -- "$mcvio" sim --duration 1 --out "$tmp/tiny"
 expect 2 "$tmp: is a folder, not a pipeline config file" -- "$mcvio" run --dataset "$tmp/tiny" --out "$tmp/o" --config "$tmp"

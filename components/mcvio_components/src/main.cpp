@@ -18,6 +18,7 @@
 namespace mcvio::cli {
 
 dds::ParticipantOptions CommandContext::participantOptions(const std::string& name) const {
+  if (!domain_given && !domain_env_error.empty()) throw CommandExit{2, domain_env_error};
   dds::ParticipantOptions o;
   o.domain_id = domain_id;
   o.profiles_file = profiles_file;
@@ -61,14 +62,15 @@ int main(int argc, char** argv) {
     char* end = nullptr;
     errno = 0;
     const long id = std::strtol(d, &end, 10);
-    if (*end != '\0' || errno != 0 || id < 0 || id > 232) {
-      std::cerr << "mcvio: ROS_DOMAIN_ID='" << d << "' is not a domain id (0..232)\n";
-      return 2;
-    }
-    ctx.domain_id = static_cast<int>(id);
+    // Refused when a command joins the bus without --domain (participantOptions), as ROS 2 does;
+    // the offline commands do not care.
+    if (*end != '\0' || errno != 0 || id < 0 || id > 232)
+      ctx.domain_env_error = std::string("ROS_DOMAIN_ID='") + d + "' is not a domain id (0..232); fix it or give --domain";
+    else
+      ctx.domain_id = static_cast<int>(id);
   }
   if (const char* p = std::getenv("MCVIO_DDS_PROFILES"); p && *p) ctx.profiles_file = p;
-  app.add_option("--domain", ctx.domain_id,
+  auto* domain_option = app.add_option("--domain", ctx.domain_id,
                  "DDS domain id, 0..232 (default: $ROS_DOMAIN_ID or 0); must match the ROS 2 tools' domain")
       ->capture_default_str();
   app.add_option("--dds-profiles", ctx.profiles_file,
@@ -83,7 +85,8 @@ int main(int argc, char** argv) {
                  "mcvio --log-level debug run --dataset DIR --out OUT -q 2> frames.log")
       ->check(CLI::IsMember(kLogLevels));
   // Runs after parsing, before the chosen command's callback: the level holds for all its work.
-  app.parse_complete_callback([&app, &ctx, &kLogLevels] {
+  app.parse_complete_callback([&app, &ctx, &kLogLevels, domain_option] {
+    ctx.domain_given = domain_option->count() > 0;
     // The first SIGINT/SIGTERM asks for a clean stop (bags closed, the graph left) in the commands
     // that poll for it; the offline ones (run, sim, eval, bench, ...) keep the default and end at once.
     for (const char* polling : {"play", "record", "echo", "frontend", "backend", "demo", "bus-demo"})

@@ -11,6 +11,8 @@ namespace mcvio::cli {
 /// Options every subcommand shares: which DDS domain and profile to join, how much to log.
 struct CommandContext {
   int domain_id = 0;
+  bool domain_given = false;     ///< --domain on the command line (it overrides $ROS_DOMAIN_ID)
+  std::string domain_env_error;  ///< why $ROS_DOMAIN_ID is unusable, if it is
   std::string profiles_file;
   std::string profile_name;
   /// spdlog level name from --log-level or $MCVIO_LOG_LEVEL; empty: the command's default.
