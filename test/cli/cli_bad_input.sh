@@ -63,4 +63,18 @@ else
   rc=$?
   if [ $rc -eq 143 ]; then echo "ok: mcvio sim ended on SIGTERM (143)"; else echo "FAIL: mcvio sim exited $rc after SIGTERM (want 143)"; failed=1; fi
 fi
+# `mcvio run` turns the first Ctrl-C into a clean stop: exit 130, the frames done kept and marked.
+"$mcvio" sim --duration 20 --out "$tmp/twenty" > /dev/null 2>&1
+"$mcvio" run --dataset "$tmp/twenty" --out "$tmp/twenty_run" -q > "$tmp/run_int.txt" 2>&1 &
+pid=$!
+sleep 1
+kill -INT $pid
+wait $pid
+rc=$?
+if [ $rc -eq 130 ] && grep -q "interrupted before frame" "$tmp/run_int.txt" &&
+   grep -q '"completed": false' "$tmp/twenty_run/stats.json"; then
+  echo "ok: mcvio run stopped on SIGINT: $(grep -o 'interrupted before frame [0-9]* of [0-9]*' "$tmp/run_int.txt")"
+else
+  echo "FAIL: mcvio run after SIGINT exited $rc:"; tail -n 3 "$tmp/run_int.txt"; failed=1
+fi
 exit $failed

@@ -87,9 +87,10 @@ int main(int argc, char** argv) {
   // Runs after parsing, before the chosen command's callback: the level holds for all its work.
   app.parse_complete_callback([&app, &ctx, &kLogLevels, domain_option] {
     ctx.domain_given = domain_option->count() > 0;
-    // The first SIGINT/SIGTERM asks for a clean stop (bags closed, the graph left) in the commands
-    // that poll for it; the offline ones (run, sim, eval, bench, ...) keep the default and end at once.
-    for (const char* polling : {"play", "record", "echo", "frontend", "backend", "demo", "bus-demo"})
+    // The first SIGINT/SIGTERM asks for a clean stop (bags closed, the graph left, a run's files
+    // marked unfinished) in the commands that poll for it; the others (sim, eval, bench, ...) keep
+    // the default and end at once.
+    for (const char* polling : {"play", "record", "echo", "frontend", "backend", "demo", "bus-demo", "run"})
       if (app.got_subcommand(polling)) mcvio::dds::ShutdownSignal::install();
     if (ctx.log_level.empty()) return;
     if (std::find(kLogLevels.begin(), kLogLevels.end(), ctx.log_level) == kLogLevels.end())

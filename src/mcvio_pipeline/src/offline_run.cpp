@@ -329,9 +329,16 @@ std::vector<ImuSample> imuThrough(const std::vector<ImuSample>& imu, Timestamp t
   return out;
 }
 
-void runSequential(const OfflineInput& data, VioPipeline& vio, RunRecorder& rec) {
+void throwIfStopRequested(const std::function<bool()>& stop_requested, std::size_t frame, std::size_t frames) {
+  if (stop_requested && stop_requested())
+    throw RunInterrupted("interrupted before frame " + std::to_string(frame) + " of " + std::to_string(frames));
+}
+
+void runSequential(const OfflineInput& data, VioPipeline& vio, RunRecorder& rec,
+                   const std::function<bool()>& stop_requested) {
   std::size_t next_imu = 0;
   for (std::size_t i = 0; i < data.frame_times.size(); ++i) {
+    throwIfStopRequested(stop_requested, i, data.frame_times.size());
     const Timestamp t = data.frame_times[i];
     for (const auto& s : imuThrough(data.imu, t, &next_imu)) vio.addImu(s);
     const double c0 = threadCpuMs();
@@ -343,7 +350,8 @@ void runSequential(const OfflineInput& data, VioPipeline& vio, RunRecorder& rec)
 
 // Decoding on one thread, the frontend on the calling thread, the estimator on a third. The
 // first error stops all three and is rethrown.
-void runPipelined(const OfflineInput& data, VioPipeline& vio, RunRecorder& rec) {
+void runPipelined(const OfflineInput& data, VioPipeline& vio, RunRecorder& rec,
+                  const std::function<bool()>& stop_requested) {
   const std::size_t n = data.frame_times.size();
   BoundedQueue<LoadedFrame> loaded(4);
   BoundedQueue<std::pair<TrackedFrame, double>> tracked(2);
@@ -362,6 +370,7 @@ void runPipelined(const OfflineInput& data, VioPipeline& vio, RunRecorder& rec) 
   std::thread loader([&] {
     try {
       for (std::size_t i = 0; i < n; ++i) {
+        throwIfStopRequested(stop_requested, i, n);
         LoadedFrame f;
         f.index = i;
         const double c0 = threadCpuMs();
@@ -469,9 +478,9 @@ OfflineRunSummary runOffline(const OfflineInput& data, const OfflineRunOptions& 
   const auto start = Clock::now();
   try {
     if (options.pipelined) {
-      runPipelined(data, vio, rec);
+      runPipelined(data, vio, rec, options.stop_requested);
     } else {
-      runSequential(data, vio, rec);
+      runSequential(data, vio, rec, options.stop_requested);
     }
     rec.finish();
   } catch (const std::exception& e) {

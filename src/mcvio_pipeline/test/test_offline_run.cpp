@@ -273,6 +273,36 @@ TEST(OfflineRun, ImageErrorInThePipelineIsRethrown) {
   std::filesystem::remove_all(o.output_dir);
 }
 
+TEST(OfflineRun, StopRequestEndsTheRunAndKeepsWhatWasWritten) {
+  const auto& seq = shortRenderedSequence();
+  pipeline::OfflineRunOptions o;
+  o.progress = false;
+  o.output_dir = ::testing::TempDir() + "/interrupted_" + std::to_string(getpid());
+  for (bool pipelined : {true, false}) {
+    o.pipelined = pipelined;
+    std::size_t polls = 0;
+    o.stop_requested = [&polls] { return ++polls > 60; };  // stop before frame 60
+    try {
+      pipeline::runOffline(cachedInput(seq), o);
+      FAIL() << "not interrupted, pipelined=" << pipelined;
+    } catch (const pipeline::RunInterrupted& e) {
+      EXPECT_NE(std::string(e.what()).find("before frame 60 of " + std::to_string(seq.input.frame_times.size())),
+                std::string::npos)
+          << e.what();
+    }
+    std::ifstream stats(o.output_dir + "/stats.json");
+    std::stringstream ss;
+    ss << stats.rdbuf();
+    EXPECT_NE(ss.str().find("\"completed\": false"), std::string::npos) << ss.str();
+    EXPECT_NE(ss.str().find("interrupted before frame 60"), std::string::npos) << ss.str();
+    // The frames estimated before the stop are on disk (initialisation takes ~20 of them).
+    const auto poses = readTum(o.output_dir + "/trajectory.tum");
+    EXPECT_GT(poses.size(), 20u) << "pipelined=" << pipelined;
+    EXPECT_LT(poses.size(), 61u) << "pipelined=" << pipelined;
+  }
+  std::filesystem::remove_all(o.output_dir);
+}
+
 // IMU that never reaches the frames: a clear error before the run, not an empty trajectory.
 TEST(OfflineRun, ImuThatDoesNotOverlapTheFramesIsAClearError) {
   const auto& seq = shortRenderedSequence();

@@ -1,6 +1,7 @@
 #include <iostream>
 
 #include "commands/command_context.hpp"
+#include "mcvio/dds/shutdown_signal.hpp"
 #include "mcvio/interfaces/message_registry.hpp"
 #include "mcvio/pipeline/offline_run.hpp"
 
@@ -19,7 +20,8 @@ void addRunCommand(CLI::App& app, CommandContext&) {
       "detected start and its bounds in hindsight), OUT/secondary.tum (the conflicting frame, e.g. an\n"
       "elevator cabin, in the world while it is tracked; final like trajectory.tum, per frame in\n"
       "OUT/secondary_online.tum when revised) and OUT/stats.json (per-stage CPU time,\n"
-      "features, new and re-identified tracks, keyframes, resets, peak memory).\n"
+      "features, new and re-identified tracks, keyframes, resets, peak memory). Ctrl-C stops after the\n"
+      "frame in hand (exit 130) and keeps what was written, stats.json saying \"completed\": false.\n"
       "Examples:\n"
       "  mcvio run --dataset ../shared/data/euroc_V1_01_excerpt --out /tmp/run\n"
       "  mcvio run --dataset /tmp/elevator --out /tmp/run_elevator --mode auto\n"
@@ -47,7 +49,15 @@ void addRunCommand(CLI::App& app, CommandContext&) {
     // Bags from before Iron (sqlite3 without message_definitions) are read with these.
     for (const auto& d : interfaces::MessageRegistry::all())
       opt->known_message_definitions.emplace(std::string(d.name), std::string(d.full_definition));
-    const auto s = pipeline::runOffline(*opt);
+    // Ctrl-C stops after the frame in hand and keeps what was written; a second one ends at once.
+    opt->stop_requested = [] { return dds::ShutdownSignal::requested(); };
+    pipeline::OfflineRunSummary s;
+    try {
+      s = pipeline::runOffline(*opt);
+    } catch (const pipeline::RunInterrupted& e) {
+      throw CommandExit{130, std::string("run: ") + e.what() + "; " + opt->output_dir +
+                                 " keeps the frames done (stats.json says \"completed\": false)"};
+    }
     std::cerr << "mcvio run: " << s.frames << " frames, " << s.estimated << " poses, " << s.skipped << " skipped, "
               << s.resets << " resets in " << s.wall_seconds << " s (" << s.data_seconds << " s of data, "
               << (s.wall_seconds > 0 ? s.data_seconds / s.wall_seconds : 0.0) << "x real time) -> "

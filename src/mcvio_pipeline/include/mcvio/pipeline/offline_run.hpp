@@ -2,6 +2,7 @@
 #include <cstddef>
 #include <functional>
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -28,10 +29,18 @@ struct OfflineRunOptions {
   bool pipelined = true;
   /// Called with every frame's result, in frame order, from the thread that runs the estimator.
   std::function<void(std::size_t frame, const VioFrameResult& result)> on_frame;
+  /// Polled before each frame is loaded; true ends the run with RunInterrupted, keeping what
+  /// was written (stats.json then says "completed": false). `mcvio run` asks its Ctrl-C flag.
+  std::function<bool()> stop_requested;
   /// Message definitions by ROS 2 type ("sensor_msgs/msg/Imu" -> .msg text with dependencies)
   /// for bag topics that carry none: rosbag2 sqlite3 files before Iron have no
   /// message_definitions table. `mcvio run` fills it with the built-in types.
   std::map<std::string, std::string> known_message_definitions;
+};
+
+/// Thrown by runOffline() when options.stop_requested said so.
+struct RunInterrupted : std::runtime_error {
+  using std::runtime_error::runtime_error;
 };
 
 struct OfflineRunSummary {
