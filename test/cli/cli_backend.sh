@@ -15,7 +15,7 @@ expect_timeout=30
 expect 106 "--calib is required" -- "$mcvio" backend
 expect 2 "/nonexistent: EuRoC folder does not exist" -- "$mcvio" backend --calib /nonexistent
 expect 105 "bogus not in {reference,imu,selective,auto}" -- "$mcvio" backend --calib /nonexistent --mode bogus
-expect 105 "--path-max: Value -3 not in range" -- "$mcvio" backend --calib /nonexistent --path-max -3
+expect 105 "--path-max: '-3' must be a finite number >= 0" -- "$mcvio" backend --calib /nonexistent --path-max -3
 for o in --calib --config --mode --lossless --world-frame --body-frame --secondary-frame --landmarks-every --path-max --max-imu-wait; do
   expect 0 "  $o" -- "$mcvio" backend --help  # its line in the option table
 done
