@@ -470,14 +470,18 @@ TEST(Recovery, ManyRandomFlipsKeepEveryUndamagedChunk) {
   }
 }
 
-TEST(Recovery, ReindexRebuildsALostMetadataFile) {
-  const auto dir = test::freshPath("lost_metadata");
+/// 200 messages split over several small files.
+std::filesystem::path writeSplitBag(const std::string& name) {
+  const auto dir = test::freshPath(name);
   BagWriterOptions o;
   o.max_bagfile_size = 20000;
-  {
-    BagWriter w(dir, o);
-    writeTopicsAndMessages(w, 200);
-  }
+  BagWriter w(dir, o);
+  writeTopicsAndMessages(w, 200);
+  return dir;
+}
+
+TEST(Recovery, ReindexRebuildsALostMetadataFile) {
+  const auto dir = writeSplitBag("lost_metadata");
   const BagMetadata before = readBagMetadata(dir);
   std::filesystem::remove(dir / "metadata.yaml");
   EXPECT_THROW(BagReader r(dir), InputError);
@@ -511,13 +515,7 @@ TEST(Recovery, ReindexCountsWhatATruncatedFileLostAgainstTheOldMetadata) {
 }
 
 TEST(Recovery, ReindexKeepsTheReadableFilesNextToAnUnreadableOne) {
-  const auto dir = test::freshPath("one_unreadable");
-  BagWriterOptions o;
-  o.max_bagfile_size = 20000;
-  {
-    BagWriter w(dir, o);
-    writeTopicsAndMessages(w, 200);
-  }
+  const auto dir = writeSplitBag("one_unreadable");
   const BagMetadata before = readBagMetadata(dir);
   ASSERT_GE(before.relative_file_paths.size(), 3u);
   const auto last = dir / before.relative_file_paths.back();
