@@ -31,7 +31,7 @@ expect 2 "ROS_DOMAIN_ID='abc' is not a domain id" -- env ROS_DOMAIN_ID=abc "$mcv
 expect 0 "" -- env ROS_DOMAIN_ID=abc "$mcvio" --domain "$domain" topics --wait 0.1
 # A one-second clean sequence (its conflict defaults, 20 s in, used to be checked against its length).
 expect 0 "21 stereo frames (0 in conflict)" -- "$mcvio" sim --duration 1 --out "$tmp/tiny"
-expect 2 "$tmp: is a folder, not a pipeline config file" -- "$mcvio" run --dataset "$tmp/tiny" --out "$tmp/o" --config "$tmp"
+expect 2 "$tmp: is a folder; the pipeline config file must be a YAML file" -- "$mcvio" run --dataset "$tmp/tiny" --out "$tmp/o" --config "$tmp"
 printf 'estimator:\n  keyframe_window_size: 100000000\n' > "$tmp/window.yaml"
 expect 2 "keyframe_window_size' must be in [1, 1000]" -- "$mcvio" run --dataset "$tmp/tiny" --out "$tmp/o" --config "$tmp/window.yaml"
 printf 'frontend:\n  ransac_iterations: 2000000000\n' > "$tmp/ransac.yaml"

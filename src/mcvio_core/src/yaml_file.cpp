@@ -50,7 +50,7 @@ YAML::Node parseYamlText(const std::string& text, const std::string& source) {
 YAML::Node loadYamlFile(const std::string& path, const std::string& what) {
   // yaml-cpp opens a folder as an empty stream and then fails inside the C++ library's reader.
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": is a folder, not a " + what);
+  if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": is a folder; the " + what + " must be a YAML file");
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);

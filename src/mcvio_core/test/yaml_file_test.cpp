@@ -42,7 +42,7 @@ TEST(YamlFile, MissingAndMalformedFilesNameTheFile) {
   std::ofstream(dup) << "a: 1\nb: 2\na: 3\n";
   EXPECT_EQ(errorOf([&] { loadYamlFile(dup, "options file"); }).rfind(dup + ":3: key 'a' appears twice", 0), 0u);
   EXPECT_EQ(errorOf([&] { loadYamlFile(dir.string(), "options file"); }),
-            dir.string() + ": is a folder, not a options file");
+            dir.string() + ": is a folder; the options file must be a YAML file");
   std::filesystem::remove_all(dir);
 }
 

@@ -22,7 +22,7 @@ using detail::formatDouble;
 class YamlFile {
  public:
   explicit YamlFile(std::string path) : path_(std::move(path)) {
-    root_ = loadYamlFile(path_, "file");
+    root_ = loadYamlFile(path_, "sensor calibration file");
     if (!root_.IsMap()) throw InputError(path_ + ": expected a YAML map of sensor keys");
   }
 

@@ -12,7 +12,7 @@
 namespace mcvio::evaluation {
 
 EvaluationOptions EvaluationOptions::fromYamlFile(const std::string& path) {
-  const YAML::Node root = loadYamlFile(path, "file");
+  const YAML::Node root = loadYamlFile(path, "evaluation options file");
   EvaluationOptions o;
   const std::string where = path + ": ";
   try {
