@@ -65,6 +65,8 @@ EvaluationReport Evaluator::evaluate(const Trajectory& ground_truth, const std::
     e.poses = input.trajectory.size();
     e.ate_se3 = computeAte(input.trajectory, ground_truth, Alignment::kSe3, ate_options);
     e.ate_posyaw = computeAte(input.trajectory, ground_truth, Alignment::kPositionYaw, ate_options);
+    if (input.online_trajectory)
+      e.ate_posyaw_online = computeAte(*input.online_trajectory, ground_truth, Alignment::kPositionYaw, ate_options);
     if (labels) {
       e.has_conflict_split = true;
       e.ate_se3_in_conflict = e.ate_se3.translationWithin(in_conflict);

@@ -136,6 +136,11 @@ std::vector<MetricRow> metricRows(const EvaluationReport& report) {
       {"ate_posyaw_rmse_m", "ATE pos+yaw RMSE [m]", 4, true, [](const auto& e) { return e.ate_posyaw.translation.rmse; }},
       {"ate_posyaw_max_m", "ATE pos+yaw max [m]", 4, true, [](const auto& e) { return e.ate_posyaw.translation.max; }},
   };
+  bool any_online = false;
+  for (const auto& e : report.estimates) any_online = any_online || e.ate_posyaw_online.has_value();
+  if (any_online)
+    rows.push_back({"ate_posyaw_online_rmse_m", "ATE pos+yaw RMSE, per-frame output [m]", 4, true,
+                    [](const auto& e) { return e.onlineAtePosYawRmse(); }});
   if (report.labels) {
     rows.push_back({"ate_se3_in_conflict_rmse_m", "ATE SE(3) RMSE in conflict [m]", 4, true,
                     [](const auto& e) { return e.ate_se3_in_conflict.rmse; }});
@@ -243,6 +248,7 @@ std::string ReportWriter::toJson(const EvaluationReport& report) {
                {"poses", e.poses},
                {"ate", {{"se3", asJson(e.ate_se3)}, {"posyaw", asJson(e.ate_posyaw)}}},
                {"rpe", {{"time", asJson(e.rpe_time)}, {"distance", asJson(e.rpe_distance)}}}};
+    if (e.ate_posyaw_online) je["ate"]["posyaw_online"] = asJson(*e.ate_posyaw_online);
     if (e.has_conflict_split) {
       je["ate"]["se3"]["in_conflict_translation_m"] = asJson(e.ate_se3_in_conflict);
       je["ate"]["se3"]["outside_conflict_translation_m"] = asJson(e.ate_se3_outside_conflict);

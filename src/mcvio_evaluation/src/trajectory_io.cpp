@@ -171,6 +171,12 @@ Trajectory loadTrajectory(const std::string& path) {
   return loadTum(path);
 }
 
+std::optional<Trajectory> loadOnlineTrajectory(const std::string& run_dir) {
+  const fs::path p = fs::path(run_dir) / "trajectory_online.tum";
+  if (!fs::is_regular_file(p)) return std::nullopt;
+  return loadTum(p.string());
+}
+
 void writeTum(const Trajectory& trajectory, const std::string& path) {
   const fs::path p(path);
   if (p.has_parent_path()) {

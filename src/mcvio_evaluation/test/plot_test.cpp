@@ -109,7 +109,7 @@ TEST(ReportPlotter, WritesEveryFigure) {
   }
   const DetectorLog log(rows, {"timestamp_ns", "state", "propagated_chi2", "propagated_threshold", "inconsistent_fraction", "evidence_score"}, "c.csv");
   const EvaluationReport report = Evaluator().evaluate(
-      gt, {{"reference", ref, std::nullopt}, {"mcvio", mc, log}}, ConflictLabelTimeline(labels, "labels.csv"));
+      gt, {{"reference", ref, std::nullopt, std::nullopt}, {"mcvio", mc, log, std::nullopt}}, ConflictLabelTimeline(labels, "labels.csv"));
   const std::string dir = test::freshDir("plots");
   const auto files = ReportPlotter::write(report, dir);
   ASSERT_EQ(files.size(), 5u);
@@ -124,7 +124,7 @@ TEST(ReportPlotter, WritesEveryFigure) {
     EXPECT_GT(countColor(img, ReportPlotter::runColor(1), 20), 200) << path;  // the mcvio curve
   }
   // Without a detector log there is no ROC or evidence figure.
-  const EvaluationReport plain = Evaluator().evaluate(gt, {{"reference", ref, std::nullopt}});
+  const EvaluationReport plain = Evaluator().evaluate(gt, {{"reference", ref, std::nullopt, std::nullopt}});
   EXPECT_EQ(ReportPlotter::write(plain, test::freshDir("plots_plain")).size(), 3u);
 }
 

@@ -33,8 +33,8 @@ struct Scenario {
       l.push_back(label);
     }
     labels = ConflictLabelTimeline(l, "labels.csv");
-    estimates.push_back({"reference", withHeightError(0.2), std::nullopt});
-    estimates.push_back({"mcvio", withHeightError(0.05), std::nullopt});
+    estimates.push_back({"reference", withHeightError(0.2), std::nullopt, std::nullopt});
+    estimates.push_back({"mcvio", withHeightError(0.05), std::nullopt, std::nullopt});
   }
 
   Trajectory withHeightError(double dz) const {
@@ -115,10 +115,39 @@ TEST(ReportWriter, JsonAndMarkdownCarryTheSameNumbers) {
   EXPECT_EQ(loadTum(dir + "/ground_truth.tum").size(), s.gt.size());
 }
 
+TEST(Evaluator, PerFrameOutputIsMeasuredBesideTheRevisedTrajectory) {
+  Scenario s;
+  // mcvio's final trajectory is its 0.05 m one; frame by frame it had published 0.2 m off (a
+  // conflict window revised it afterwards). The reference revised nothing.
+  s.estimates[1].online_trajectory = s.withHeightError(0.2);
+  const EvaluationReport report = Evaluator().evaluate(s.gt, s.estimates, s.labels);
+  const auto& ref = report.estimates[0];
+  const auto& mc = report.estimates[1];
+  EXPECT_FALSE(ref.ate_posyaw_online.has_value());
+  EXPECT_DOUBLE_EQ(ref.onlineAtePosYawRmse(), ref.ate_posyaw.translation.rmse);
+  ASSERT_TRUE(mc.ate_posyaw_online.has_value());
+  EXPECT_DOUBLE_EQ(mc.onlineAtePosYawRmse(), ref.ate_posyaw.translation.rmse);  // the same 0.2 m error
+  EXPECT_GT(mc.onlineAtePosYawRmse(), 2.0 * mc.ate_posyaw.translation.rmse);
+
+  const std::string dir = test::freshDir("report_online");
+  ReportWriter::write(report, dir);
+  std::ifstream in(dir + "/eval.json");
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_DOUBLE_EQ(j["metrics"]["mcvio"]["ate_posyaw_online_rmse_m"].get<double>(), mc.onlineAtePosYawRmse());
+  EXPECT_TRUE(j["estimates"][1]["ate"].contains("posyaw_online"));
+  EXPECT_FALSE(j["estimates"][0]["ate"].contains("posyaw_online"));
+  EXPECT_NE(ReportWriter::toMarkdown(report).find("| ATE pos+yaw RMSE, per-frame output [m] |"), std::string::npos);
+
+  // Without any online trajectory the row is left out.
+  Scenario plain;
+  EXPECT_EQ(ReportWriter::toMarkdown(Evaluator().evaluate(plain.gt, plain.estimates, plain.labels)).find("per-frame output"),
+            std::string::npos);
+}
+
 TEST(ReportWriter, EmptyStatisticsAreNullAndNa) {
   // A run shorter than the RPE delta: no pairs, so null in JSON and n/a in the table.
   const Trajectory gt = test::straightLine(0.5, 200, 1.0, kT0);
-  const EvaluationReport report = Evaluator().evaluate(gt, {{"short", test::straightLine(0.5, 20, 1.0, kT0), std::nullopt}});
+  const EvaluationReport report = Evaluator().evaluate(gt, {{"short", test::straightLine(0.5, 20, 1.0, kT0), std::nullopt, std::nullopt}});
   const auto j = nlohmann::json::parse(ReportWriter::toJson(report));
   EXPECT_TRUE(j["metrics"]["short"]["rpe_time_translation_rmse_m"].is_null());
   EXPECT_NE(ReportWriter::toMarkdown(report).find("n/a"), std::string::npos);

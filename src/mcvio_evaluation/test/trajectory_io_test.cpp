@@ -141,6 +141,19 @@ TEST(TrajectoryIo, LoadTrajectoryPicksTheFormat) {
   EXPECT_EQ(loadTrajectory(dir + "/gt/mav0").size(), 2u);
 }
 
+TEST(TrajectoryIo, OnlineTrajectoryOnlyWhereTheRunWroteOne) {
+  const std::string dir = test::freshDir("online");
+  const Trajectory t = test::lissajous(1, 20);
+  writeTum(t, dir + "/run/trajectory.tum");
+  EXPECT_FALSE(loadOnlineTrajectory(dir + "/run").has_value());
+  writeTum(test::lissajous(1, 10), dir + "/run/trajectory_online.tum");
+  const auto online = loadOnlineTrajectory(dir + "/run");
+  ASSERT_TRUE(online.has_value());
+  EXPECT_EQ(online->size(), test::lissajous(1, 10).size());
+  test::writeText(dir + "/run/trajectory_online.tum", "1.0 0 0 0 0 0 0 1\n0.5 0 0 0 0 0 0 1\n");
+  EXPECT_THROW(loadOnlineTrajectory(dir + "/run"), InputError);  // a damaged one is an error, not "absent"
+}
+
 TEST(TrajectoryIo, RealEurocGroundTruth) {
   const char* shared = std::getenv("MCVIO_SHARED_DIR");
   const std::string dir = shared ? std::string(shared) + "/data/euroc_V1_01_excerpt" : "";

@@ -467,9 +467,11 @@ void DemoPipeline::evaluate(const Sequence& s, SequenceResult& r) const {
   std::vector<ev::EstimateInput> runs(2);
   runs[0].name = "reference";
   runs[0].trajectory = ev::loadTum((s.reference_dir / "trajectory.tum").string());
+  runs[0].online_trajectory = ev::loadOnlineTrajectory(s.reference_dir.string());
   runs[0].detector = ev::DetectorLog::load((s.reference_dir / "conflict.csv").string());
   runs[1].name = "mcvio";
   runs[1].trajectory = ev::loadTum((s.mcvio_dir / "trajectory.tum").string());
+  runs[1].online_trajectory = ev::loadOnlineTrajectory(s.mcvio_dir.string());
   runs[1].detector = ev::DetectorLog::load((s.mcvio_dir / "conflict.csv").string());
   const auto report = ev::Evaluator(eo).evaluate(gt, runs, labels);
   fs::remove_all(s.report_dir);

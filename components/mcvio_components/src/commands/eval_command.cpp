@@ -19,8 +19,6 @@ namespace {
 namespace fs = std::filesystem;
 namespace ev = mcvio::evaluation;
 
-/// "NAME=PATH" or just PATH (named after its folder or file stem). A folder is an `mcvio run`
-/// output: OUT/trajectory.tum and, when present, OUT/conflict.csv.
 // `mcvio run` marks a run it could not finish; its trajectory stops where the error struck.
 void warnIfIncomplete(const fs::path& stats_path) {
   if (!fs::is_regular_file(stats_path)) return;
@@ -34,6 +32,8 @@ void warnIfIncomplete(const fs::path& stats_path) {
   }
 }
 
+/// "NAME=PATH" or just PATH (named after its folder or file stem). A folder is an `mcvio run`
+/// output: OUT/trajectory.tum and, when present, OUT/trajectory_online.tum and OUT/conflict.csv.
 ev::EstimateInput loadEstimate(const std::string& spec) {
   const auto eq = spec.find('=');
   std::string name = eq == std::string::npos ? std::string() : spec.substr(0, eq);
@@ -49,6 +49,7 @@ ev::EstimateInput loadEstimate(const std::string& spec) {
       throw InputError(path + ": no trajectory.tum in this folder (expected the output folder of `mcvio run`)");
     }
     input.trajectory = ev::loadTum((p / "trajectory.tum").string());
+    input.online_trajectory = ev::loadOnlineTrajectory(path);
     if (fs::is_regular_file(p / "conflict.csv")) input.detector = ev::DetectorLog::load((p / "conflict.csv").string());
     warnIfIncomplete(p / "stats.json");
   } else if (fs::exists(p)) {
@@ -72,7 +73,8 @@ void addEvalCommand(CLI::App& app, CommandContext&) {
   auto* cmd = app.add_subcommand(
       "eval",
       "Evaluate one or more runs of a sequence against its ground truth: ATE RMSE/mean/median/max after\n"
-      "SE(3) and after position+yaw alignment, ATE inside and outside labelled conflict intervals, RPE\n"
+      "SE(3) and after position+yaw alignment (also of the per-frame output, OUT/trajectory_online.tum,\n"
+      "where a run revised its trajectory), ATE inside and outside labelled conflict intervals, RPE\n"
       "over a fixed time and a fixed travelled distance, and, for runs with OUT/conflict.csv, the\n"
       "detector's per-frame TPR/FPR and ROC/AUC (chi2 ratio, inconsistent fraction, evidence score)\n"
       "against mav0/conflict_labels.csv (online, and against the run's conflict intervals in hindsight\n"
@@ -94,7 +96,8 @@ void addEvalCommand(CLI::App& app, CommandContext&) {
       ->required();
   cmd->add_option("--est", opt->estimates,
                   "a run as NAME=PATH (repeatable; NAME defaults to the folder or file name). PATH is an\n"
-                  "`mcvio run` output folder (OUT/trajectory.tum, plus OUT/conflict.csv if present) or a TUM file")
+                  "`mcvio run` output folder (OUT/trajectory.tum, plus OUT/trajectory_online.tum and OUT/conflict.csv if "
+                  "present) or a TUM file")
       ->required();
   cmd->add_option("--labels", opt->labels,
                   "conflict labels CSV (#timestamp [ns],in_conflict,motion,covered_fraction) or a EuRoC folder;\n"

@@ -64,6 +64,7 @@ ev::BenchmarkModeRun runMode(const std::string& dataset, const std::string& out,
   run.resets = int(summary.resets);
   const fs::path o(out);
   run.estimate = ev::loadTum((o / "trajectory.tum").string());
+  if (auto online = ev::loadOnlineTrajectory(out)) run.estimate_online = std::move(*online);
   run.detector = ev::DetectorLog::load((o / "conflict.csv").string()).records();
   run.secondary = ev::loadTum((o / "secondary.tum").string(), ev::EmptyTum::kEmptyTrajectory);
   return run;

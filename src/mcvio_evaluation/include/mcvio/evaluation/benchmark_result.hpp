@@ -31,7 +31,8 @@ struct BenchmarkSequence {
 /// feature-level estimator here, an image-level `mcvio run` elsewhere).
 struct BenchmarkModeRun {
   std::string mode;
-  Trajectory estimate;                  ///< body in world per tracked frame
+  Trajectory estimate;                  ///< body in world per tracked frame (final, revisions applied)
+  Trajectory estimate_online;           ///< the per-frame output where revisions changed it; else empty
   std::vector<DetectorRecord> detector; ///< per tracked frame
   Trajectory secondary;                 ///< the conflicting frame S in world while it is tracked
   std::vector<double> cpu_ms;           ///< backend CPU per frame
@@ -65,6 +66,7 @@ struct BenchmarkRun {
   double wall_s = 0;               ///< simulation excluded
 
   double ate_posyaw_m = kNaN;      ///< RMSE after position+yaw alignment
+  double ate_posyaw_online_m = kNaN;  ///< the same for the per-frame output (= ate_posyaw_m if unrevised)
   double ate_se3_m = kNaN;         ///< RMSE after SE(3) alignment
   double ate_posyaw_in_conflict_m = kNaN;  ///< over frames labelled in conflict, whole-run alignment
   double rpe_translation_m = kNaN; ///< RMSE over pairs rpe_delta_s apart

@@ -18,6 +18,9 @@ struct EstimateInput {
   std::string name;  ///< e.g. "reference", "mcvio"; unique within an evaluation
   Trajectory trajectory;
   std::optional<DetectorLog> detector;
+  /// The run's per-frame (online) output where a later revision changed it (`mcvio run`'s
+  /// trajectory_online.tum): what a live user saw. Unset: the same as `trajectory`.
+  std::optional<Trajectory> online_trajectory;
 };
 
 /// Everything measured for one run.
@@ -28,6 +31,13 @@ struct EstimateEvaluation {
   std::size_t poses = 0;
   AteResult ate_se3;
   AteResult ate_posyaw;
+  /// The per-frame output's ATE after position+yaw alignment, with an online trajectory.
+  std::optional<AteResult> ate_posyaw_online;
+  /// ATE pos+yaw RMSE of what the run output frame by frame: the online trajectory's, else the
+  /// trajectory's (nothing was revised).
+  double onlineAtePosYawRmse() const {
+    return ate_posyaw_online ? ate_posyaw_online->translation.rmse : ate_posyaw.translation.rmse;
+  }
   /// With labels: ATE over frames labelled in conflict and over the others (whole-run alignment).
   bool has_conflict_split = false;
   ErrorStatistics ate_se3_in_conflict, ate_posyaw_in_conflict, ate_se3_outside_conflict;

@@ -1,4 +1,5 @@
 #pragma once
+#include <optional>
 #include <string>
 
 #include "mcvio/evaluation/trajectory.hpp"
@@ -26,6 +27,10 @@ Trajectory loadEurocGroundTruth(const std::string& dataset_dir);
 ///  - another directory -> EuRoC ground truth below it;
 ///  - a file ending in .csv -> EuRoC ground-truth CSV; any other file -> TUM.
 Trajectory loadTrajectory(const std::string& path);
+
+/// The per-frame output of an `mcvio run` output folder, OUT/trajectory_online.tum, which the run
+/// writes only when a conflict window revised earlier frames; nullopt without it.
+std::optional<Trajectory> loadOnlineTrajectory(const std::string& run_dir);
 
 /// Writes `trajectory` as TUM (time with 9 decimals, so nanoseconds survive a round trip),
 /// creating parent folders. Throws mcvio::InputError if the file cannot be written.
