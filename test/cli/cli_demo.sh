@@ -22,7 +22,7 @@ rc=$?
 cat "$tmp/run1.txt"
 check "demo exits 0" test "$rc" -eq 0
 check "prints the table row" grep -qE '^\| elevator \| [0-9]+ \| [0-9.]+ \| [0-9.]+ \|' "$tmp/run1.txt"
-check "prints when MC-VIO detected the conflict" grep -qE '^\| elevator( \| [^|]+){9} \| [0-9]+\.[0-9]{2} \|$' "$tmp/run1.txt"
+check "prints when MC-VIO detected the conflict" grep -qE '^\| elevator( \| [^|]+){10} \| [0-9]+\.[0-9]{2} \|$' "$tmp/run1.txt"
 check "prints the report path" grep -qF "$out/elevator/report/eval.md" "$tmp/run1.txt"
 check "prints the ride and the cabin's own motion" grep -qE "^  the cabin's own motion \(secondary frame, secondary.tum\) [0-9]+\.[0-9]{2} m \([0-9]+\.[0-9] % off\)" "$tmp/run1.txt"
 for f in report/eval.json report/eval.md report/trajectory_top.png report/error_over_time.png report/roc.png report/evidence_over_time.png report/ride_heights.png \

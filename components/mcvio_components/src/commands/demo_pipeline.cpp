@@ -484,6 +484,7 @@ void DemoPipeline::evaluate(const Sequence& s, SequenceResult& r) const {
   r.reference_poses = ref->poses;
   r.reference_ate_m = ref->ate_posyaw.translation.rmse;
   r.mcvio_ate_m = mc->ate_posyaw.translation.rmse;
+  r.mcvio_online_ate_m = mc->onlineAtePosYawRmse();
   r.reference_rpe_m = ref->rpe_time.translation.rmse;
   r.mcvio_rpe_m = mc->rpe_time.translation.rmse;
   if (mc->detection) {
@@ -584,19 +585,21 @@ std::vector<DemoPipeline::SequenceResult> DemoPipeline::run() const {
 std::string DemoPipeline::summary(const std::vector<SequenceResult>& results, const std::string& mode) {
   std::ostringstream out;
   out << "\n| sequence | frames | ATE ref [m] | ATE MC-VIO (" << mode
-      << ") [m] | reduction | RPE 1 s ref [m] | RPE 1 s MC-VIO [m] | detection TPR | detection FPR | TPR / FPR in hindsight | detected after [s] |\n"
-      << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+      << ") [m] | MC-VIO per frame [m] | reduction | RPE 1 s ref [m] | RPE 1 s MC-VIO [m] | detection TPR | detection FPR | TPR / FPR in hindsight | detected after [s] |\n"
+      << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : results) {
     const std::string red = std::isfinite(r.reduction()) ? (r.reduction() >= 0 ? "+" : "") + fixed(r.reduction(), 0) + " %" : "n/a";
     out << "| " << r.name << " | " << r.frames << " | " << fixed(r.reference_ate_m, 3) << " | " << fixed(r.mcvio_ate_m, 3)
-        << " | " << red << " | " << fixed(r.reference_rpe_m, 3) << " | " << fixed(r.mcvio_rpe_m, 3) << " | "
+        << " | " << fixed(r.mcvio_online_ate_m, 3) << " | " << red << " | " << fixed(r.reference_rpe_m, 3) << " | " << fixed(r.mcvio_rpe_m, 3) << " | "
         << (r.has_detection ? fixed(r.mcvio_tpr, 2) : "n/a") << " | " << (r.has_detection ? fixed(r.mcvio_fpr, 2) : "n/a")
         << " | "
         << (std::isfinite(r.mcvio_hindsight_tpr) ? fixed(r.mcvio_hindsight_tpr, 2) + " / " + fixed(r.mcvio_hindsight_fpr, 2)
                                                  : "n/a")
         << " | " << fixed(r.mcvio_onset_delay_s, 2) << " |\n";
   }
-  out << "\nATE: RMSE after position+yaw alignment; reduction: 100 * (ref - MC-VIO) / ref, positive = less error.\n"
+  out << "\nATE: RMSE after position+yaw alignment, of the final trajectory; MC-VIO per frame: the same for the poses\n"
+         "as /mcvio/odometry published them, before the conflict window revised an IMU-dominated interval;\n"
+         "reduction: 100 * (ref - MC-VIO) / ref (final trajectories), positive = less error.\n"
          "Detection: per frame, MC-VIO's detector state `conflict` against the rendered labels; in hindsight:\n"
          "its conflict intervals from where the evidence began to build up to the last frame with evidence;\n"
          "detected after: from the first labelled frame to MC-VIO's first detection.\n";

@@ -47,6 +47,7 @@ class DemoPipeline {
     std::string name;
     std::size_t frames = 0, reference_poses = 0, mcvio_poses = 0;
     double reference_ate_m = 0, mcvio_ate_m = 0;          ///< ATE RMSE after position+yaw alignment
+    double mcvio_online_ate_m = 0;  ///< the same for MC-VIO's per-frame output (before the conflict window's revision)
     double reference_rpe_m = 0, mcvio_rpe_m = 0;          ///< RPE RMSE over 1 s
     double mcvio_tpr = 0, mcvio_fpr = 0;                  ///< per-frame detection against the labels
     bool has_detection = false;
