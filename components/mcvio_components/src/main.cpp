@@ -49,6 +49,7 @@ int main(int argc, char** argv) {
       "  mcvio record -o /tmp/run --all     record the bus to a rosbag2 bag (MCAP)\n"
       "  mcvio frontend --calib DIR         stereo tracking on the bus: /mcvio/features\n"
       "  mcvio backend --calib DIR --mode auto   the estimator on the bus: /mcvio/odometry, /tf, /mcvio/conflict\n"
+      "  mcvio launch config/pipeline.yaml data:=DIR   player + frontend + backend (+ recorder) in one process\n"
       "  mcvio run --dataset DIR --out OUT --mode auto   the whole VIO offline: trajectory.tum, conflict.csv, stats.json\n"
       "  mcvio eval --gt DIR --est OUT --out REPORT   ATE/RPE, detection ROC, plots against ground truth\n"
       "  mcvio bench --out DIR             the MC-VIO benchmark suite: every scenario and mode, one report",
@@ -90,7 +91,7 @@ int main(int argc, char** argv) {
     // The first SIGINT/SIGTERM asks for a clean stop (bags closed, the graph left, a run's files
     // marked unfinished) in the commands that poll for it; the others (sim, eval, bench, ...) keep
     // the default and end at once.
-    for (const char* polling : {"play", "record", "echo", "frontend", "backend", "demo", "bus-demo", "run"})
+    for (const char* polling : {"play", "record", "echo", "frontend", "backend", "launch", "demo", "bus-demo", "run"})
       if (app.got_subcommand(polling)) mcvio::dds::ShutdownSignal::install();
     if (ctx.log_level.empty()) return;
     if (std::find(kLogLevels.begin(), kLogLevels.end(), ctx.log_level) == kLogLevels.end())
@@ -111,6 +112,7 @@ int main(int argc, char** argv) {
   addFrontendCommand(app, ctx);
   addBackendCommand(app, ctx);
   addRunCommand(app, ctx);
+  addLaunchCommand(app, ctx);
   // CLI11 answers an unknown command with "A subcommand is required"; name it and the known ones.
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
