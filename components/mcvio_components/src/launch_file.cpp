@@ -203,7 +203,7 @@ LaunchPlan LaunchFile::resolve(const std::map<std::string, std::string>& values)
   // Arguments first: they are what the rest refers to.
   Values args;
   const std::vector<Argument>& declared = arguments_;
-  const YAML::Node arg_node = top.child("arguments");
+  const YAML::Node arg_node = top.has("arguments") ? top.child("arguments") : YAML::Node();
   for (const auto& [name, value] : values) {
     if (std::none_of(declared.begin(), declared.end(), [&](const Argument& a) { return a.name == name; })) {
       std::vector<std::string> names;
@@ -233,13 +233,13 @@ LaunchPlan LaunchFile::resolve(const std::map<std::string, std::string>& values)
     }
   }
 
-  const YAML::Node exit_node = top.child("exit_when_played");
-  if (exit_node) {
+  if (top.has("exit_when_played")) {
+    const YAML::Node exit_node = top.child("exit_when_played");
     if (!exit_node.IsScalar() || !conditionValue(substitute(exit_node.Scalar(), args, exit_node), &plan.exit_when_played))
       throw InputError(at(exit_node) + "'exit_when_played' must be true or false");
   }
-  const YAML::Node drain = top.child("drain_timeout");
-  if (drain) {
+  if (top.has("drain_timeout")) {
+    const YAML::Node drain = top.child("drain_timeout");
     YAML::Node m(YAML::NodeType::Map);
     m["drain_timeout"] = substituted(drain, args);
     YamlFields d(m, "", "launch key");
@@ -251,8 +251,12 @@ LaunchPlan LaunchFile::resolve(const std::map<std::string, std::string>& values)
     if (!(plan.drain_timeout_s > 0 && plan.drain_timeout_s <= 86400))
       throw InputError(at(drain) + "'drain_timeout' must be in (0, 86400] seconds");
   }
-  const YAML::Node list = top.child("components");
-  top.rejectUnknown();
+  const YAML::Node list = top.has("components") ? top.child("components") : YAML::Node();
+  try {
+    top.rejectUnknown();
+  } catch (const InputError& e) {
+    throw InputError(source_ + ": " + e.what());
+  }
   if (!list || !list.IsSequence() || list.size() == 0)
     throw InputError(source_ + ": 'components:' must list at least one component (player, frontend, backend, recorder)");
 

@@ -248,15 +248,7 @@ Launcher::Result Launcher::run() {
     }
     throw;
   }
-  // Components first, then their participants, then the monitors (the slots' member order).
-  for (auto it = slots.rbegin(); it != slots.rend(); ++it) {
-    it->stand_ins.clear();
-    it->player.reset();
-    it->bag_player.reset();
-    it->backend.reset();
-    it->frontend.reset();
-    it->recorder.reset();
-  }
+  // Each slot ends its components, then its participant, then its monitor (member order).
   slots.clear();
   result.wall_seconds = secondsSince(t0);
   return result;
