@@ -136,9 +136,10 @@ Launcher::Result Launcher::run() {
             s.data = std::make_unique<dataset::EurocDataset>(dataset::EurocDataset::open(e.input));
             for (const auto& w : s.data->warnings()) say("warning: " + w);
             s.player = std::make_unique<Player>(node, *s.data, e.player);
-            if (e.player.lossless) {
-              // A lossless player waits for a reader of every topic it plays; the components read
-              // the calibration folder, not camera_info, and nothing here wants the ground truth.
+            {
+              // A player waits for a reader of every topic it plays (a lossless one fails without);
+              // the components read the calibration folder, not camera_info, and only a recorder
+              // may want the ground truth: without these it would wait wait_for_readers per topic.
               auto readers = s.participant->createNode(e.name + "_sinks", e.node_namespace);
               const auto q = dds::QosProfile::lossless();
               s.stand_ins.push_back(readers->createSubscription<sensor_msgs::msg::dds_::CameraInfo_>(

@@ -29,7 +29,7 @@ void addLaunchCommand(CLI::App& app, CommandContext& ctx) {
       "processes; a lossless launch gives the poses of `mcvio run` on the same data.\n"
       "Examples:\n"
       "  mcvio launch config/pipeline.yaml data:=/tmp/elevator\n"
-      "  mcvio launch config/pipeline.yaml data:=/tmp/elevator mode:=reference record:=/tmp/rec lossless:=true\n"
+      "  mcvio launch config/pipeline.yaml data:=/tmp/elevator mode:=reference record:=true bag:=/tmp/rec lossless:=true\n"
       "  mcvio launch config/pipeline.yaml data:=/tmp/elevator play:=false    # live sensors on the bus\n"
       "  mcvio launch config/pipeline.yaml --show-args\n" +
           components::LaunchFile::keysHelp());

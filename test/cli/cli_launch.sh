@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# `mcvio launch` as a user runs it: the shipped config/pipeline.yaml lists its arguments, runs a
+# lossless player -> frontend -> backend -> recorder launch to the end (every frame handled, the
+# poses in the bag), stops cleanly on Ctrl-C with the bag closed, and bad launch input is named.
+set -u
+mcvio=$1
+file="$(cd "$(dirname "$0")/../.." && pwd)/config/pipeline.yaml"
+domain=$((150 + RANDOM % 80))
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+failed=0
+. "$(dirname "$0")/expect.sh"
+expect 0 "data:=(required)" -- "$mcvio" launch "$file" --show-args
+expect 2 "give the required argument(s) data:=VALUE" -- "$mcvio" --domain "$domain" launch "$file"
+expect 2 "launch argument 'data=/x' is not NAME:=VALUE" -- "$mcvio" --domain "$domain" launch "$file" data=/x
+expect 2 "no argument 'dta' is declared (declared: data, mode" -- "$mcvio" --domain "$domain" launch "$file" data:=/x dta:=1
+expect 2 "argument 'mode' is given twice" -- "$mcvio" --domain "$domain" launch "$file" data:=/x mode:=imu mode:=auto
+expect 2 "component 'backend': 'mode': unknown mode 'fast'" -- "$mcvio" --domain "$domain" launch "$file" data:=/x mode:=fast
+expect 2 "components[3].if is 'maybe'; it must be true or false" -- "$mcvio" --domain "$domain" launch "$file" data:=/x play:=maybe
+expect 2 "$tmp: is a folder; the launch file must be a YAML file" -- "$mcvio" --domain "$domain" launch "$tmp"
+expect 2 "$tmp/missing.yaml" -- "$mcvio" --domain "$domain" launch "$tmp/missing.yaml"
+printf 'components:\n  - component: player\n    input: x\n    rat: 2\n' > "$tmp/typo.yaml"
+expect 2 "$tmp/typo.yaml:2: component 'player': unknown launch key 'components[0].rat'" -- "$mcvio" --domain "$domain" launch "$tmp/typo.yaml"
+expect 2 "/nonexistent: EuRoC folder does not exist" -- "$mcvio" --domain "$domain" launch "$file" data:=/nonexistent
+
+"$mcvio" sim --duration 3 --out "$tmp/seq" > /dev/null 2>&1
+expect_timeout=120 expect 0 "frontend 'frontend': 61 stereo pairs, 61 feature frames published, 0 skipped, 0 dropped" -- \
+  "$mcvio" --domain "$domain" launch "$file" data:="$tmp/seq" lossless:=true record:=true bag:="$tmp/bag" -q
+poses=$("$mcvio" bag info "$tmp/bag" | grep -F 'Topic: /mcvio/odometry |' | sed -nE 's/.*Count: ([0-9]+).*/\1/p')
+if [ "${poses:-0}" -gt 0 ]; then echo "ok: the bag holds $poses poses"; else echo "FAIL: no /mcvio/odometry in the launch's bag"; failed=1; fi
+expect 2 "$tmp/bag: exists and is not an empty directory" -- "$mcvio" --domain "$domain" launch "$file" data:="$tmp/seq" record:=true bag:="$tmp/bag"
+
+# Without a player it runs until Ctrl-C, then closes the bag: exit 130.
+"$mcvio" --domain "$domain" launch "$file" data:="$tmp/seq" play:=false record:=true bag:="$tmp/live" > "$tmp/live.txt" 2>&1 &
+pid=$!
+for _ in $(seq 1 100); do grep -q "running; Ctrl-C to stop" "$tmp/live.txt" && break; sleep 0.1; done
+kill -INT $pid
+wait $pid
+rc=$?
+if [ $rc -eq 130 ] && grep -q "interrupted" "$tmp/live.txt" && [ -f "$tmp/live/metadata.yaml" ]; then
+  echo "ok: mcvio launch stopped on SIGINT (130), bag closed"
+else
+  echo "FAIL: mcvio launch after SIGINT exited $rc:"; tail -n 5 "$tmp/live.txt"; failed=1
+fi
+exit $failed
