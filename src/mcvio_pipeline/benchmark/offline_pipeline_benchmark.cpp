@@ -1,6 +1,9 @@
 // Speed, memory and accuracy of `mcvio run` (runOffline) on 60 s clean sequences: the rendered
 // office (`none`), semi-real V1_01 (rendered along the real ground truth with the real IMU) and
-// the real standing V1_01 excerpt. Renders the sequences once into a folder and reuses them.
+// the real standing V1_01 excerpt; and on a 30 s rendered elevator (a 12 m ride from 10 to 22 s,
+// MC-VIO `auto`), whose per-frame output (what /mcvio/odometry published, before the conflict
+// window revised the ride) is measured too: its ATE and whether its covariance covers its error
+// during the ride. Renders the sequences once into a folder and reuses them.
 // Each render and each run happens in a child process, so the peak memory (getrusage) is the
 // run's own. Prints one Markdown table.
 //
@@ -11,6 +14,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -40,7 +44,28 @@ struct Sequence {
   std::string dataset_dir;
   std::string description;    // how it was made; a render is reused only if this matches
   std::function<void()> render;  // empty: the dataset exists already
+  std::string mode;              // empty: the config's
+  double conflict_from_s = 0, conflict_to_s = 0;  // the labelled conflict, after the first frame
 };
+
+// Mean and median NEES of the samples from `from_s` to `to_s` after the first (NaN without samples):
+// the mean follows the few frames around an onset the detector has not found yet, the median
+// the rest.
+std::pair<double, double> neesOver(const pipeline::sequences::RunAccuracy& a, double from_s, double to_s) {
+  std::vector<double> v;
+  if (!a.nees_samples.empty()) {
+    const Timestamp t0 = a.nees_samples.front().t;
+    for (const auto& s : a.nees_samples) {
+      const double t = toSeconds(s.t - t0);
+      if (t >= from_s && t <= to_s) v.push_back(s.nees);
+    }
+  }
+  if (v.empty()) return {std::nan(""), std::nan("")};
+  double sum = 0;
+  for (double x : v) sum += x;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  return {sum / static_cast<double>(v.size()), v[v.size() / 2]};
+}
 
 std::string loadAverage() {
   std::ifstream in("/proc/loadavg");
@@ -87,6 +112,7 @@ void ensureRendered(const Sequence& s) {
 // The run and its evaluation, in a child; results in OUT/benchmark.json.
 void runOne(const Sequence& s, const std::string& out, bool pipelined, const std::string& config) {
   pipeline::OfflineRunOptions o;
+  o.mode = s.mode;
   o.dataset_dir = s.dataset_dir;
   o.output_dir = out;
   o.progress = isatty(2);
@@ -98,7 +124,7 @@ void runOne(const Sequence& s, const std::string& out, bool pipelined, const std
   const auto gt = dataset::EurocDataset::open(s.dataset_dir).groundTruth();
   const auto a = pipeline::sequences::evaluateRun(out + "/trajectory.tum", gt, covariances);
   pipeline::sequences::writeNeesCsv(a, out + "/nees.csv");
-  const nlohmann::json j = {{"frames", sum.frames},
+  nlohmann::json j = {{"frames", sum.frames},
                             {"poses", a.poses},
                             {"resets", sum.resets},
                             {"ate_pos_yaw", a.ate_pos_yaw_rmse},
@@ -115,6 +141,18 @@ void runOne(const Sequence& s, const std::string& out, bool pipelined, const std
                             {"data_s", sum.data_seconds},
                             {"realtime", sum.realtimeFactor()},
                             {"rss_mb", sum.peak_rss_mb}};
+  if (s.conflict_to_s > s.conflict_from_s) {
+    // trajectory_online.tum exists only when a conflict window revised poses; else it is trajectory.tum.
+    const std::string online_tum = fs::exists(out + "/trajectory_online.tum") ? out + "/trajectory_online.tum" : out + "/trajectory.tum";
+    const auto online = pipeline::sequences::evaluateRun(online_tum, gt, covariances);
+    pipeline::sequences::writeNeesCsv(online, out + "/nees_online.csv");
+    j["conflict"] = {{"ate_pos_yaw_online", online.ate_pos_yaw_rmse},
+                     {"nees_online", online.position_nees},
+                     {"nees_online_in_conflict", neesOver(online, s.conflict_from_s, s.conflict_to_s).first},
+                     {"nees_online_in_conflict_median", neesOver(online, s.conflict_from_s, s.conflict_to_s).second},
+                     {"nees_online_after", neesOver(online, s.conflict_to_s, 1e9).first},
+                     {"nees_online_after_median", neesOver(online, s.conflict_to_s, 1e9).second}};
+  }
   std::ofstream(out + "/benchmark.json") << j.dump(2) << "\n";
 }
 
@@ -154,6 +192,25 @@ int main(int argc, char** argv) {
                     std::to_string(pipeline::sequences::renderedNone(seconds, 1).png_compression);
     s.render = [dir = s.dataset_dir, seconds] {
       auto o = pipeline::sequences::renderedNone(seconds, 1);
+      o.output_dir = dir;
+      sim::Simulator(o).writeDataset();
+    };
+    sequences.push_back(s);
+  }
+  {
+    Sequence s;
+    s.name = "rendered_elevator_30s";
+    s.dataset_dir = data + "/" + s.name;
+    s.mode = "auto";
+    s.conflict_from_s = 10;
+    s.conflict_to_s = 22;
+    s.description = "elevator seed 1 duration 30 onset 10 ride 12 s png level " +
+                    std::to_string(pipeline::sequences::renderedNone(30, 1).png_compression);
+    s.render = [dir = s.dataset_dir] {
+      auto o = pipeline::sequences::renderedNone(30, 1);
+      o.scenario.kind = sim::ScenarioKind::kElevator;
+      o.scenario.onset_s = 10;
+      o.scenario.duration_s = 12;
       o.output_dir = dir;
       sim::Simulator(o).writeDataset();
     };
@@ -213,6 +270,28 @@ int main(int argc, char** argv) {
               << j["frontend_ms"].get<double>() << " | " << j["loader_ms"].get<double>() << " | "
               << j["wall_s"].get<double>() << " | " << j["cpu_s"].get<double>() << " | " << std::setprecision(2)
               << j["realtime"].get<double>() << "x | " << std::setprecision(0) << j["rss_mb"].get<double>() << " |\n";
+  }
+  bool any_conflict = false;
+  for (const auto& [name, j] : rows) any_conflict = any_conflict || j.contains("conflict");
+  if (any_conflict) {
+    std::cout << "\nMC-VIO (auto) per-frame output, NEES of the position aligned at the first pose (3 = consistent):\n\n"
+              << "| sequence | ATE pos+yaw final / per frame [m] | NEES per frame in the conflict, mean / median | "
+                 "after it, mean / median | whole run, mean |\n|---|---|---|---|---|\n";
+    // A figure without samples is null in the JSON (NaN).
+    const auto num = [](const nlohmann::json& v, int digits) {
+      if (!v.is_number()) return std::string("n/a");
+      std::ostringstream os;
+      os << std::fixed << std::setprecision(digits) << v.get<double>();
+      return os.str();
+    };
+    for (const auto& [name, j] : rows) {
+      if (!j.contains("conflict")) continue;
+      const auto& c = j["conflict"];
+      std::cout << "| " << name << " | " << num(j["ate_pos_yaw"], 3) << " / " << num(c["ate_pos_yaw_online"], 3) << " | "
+                << num(c["nees_online_in_conflict"], 2) << " / " << num(c["nees_online_in_conflict_median"], 2) << " | "
+                << num(c["nees_online_after"], 2) << " / " << num(c["nees_online_after_median"], 2) << " | "
+                << num(c["nees_online"], 2) << " |\n";
+    }
   }
   return rows.empty() ? 1 : 0;
 }
