@@ -210,18 +210,11 @@ TEST(LaunchFile, TheShippedPipelineFileResolves) {
 TEST(Launcher, LosslessLaunchOfTheShippedFileRecordsTheOfflineRunsPoses) {
   const std::string base = ::testing::TempDir() + "/launch_" + std::to_string(getpid());
   std::filesystem::remove_all(base);
-  sim::SimulatorOptions so;
-  so.output_dir = base + "/seq";
-  so.overwrite = true;
-  so.seed = 5;
-  so.duration_s = 4.0;
-  so.scenario.kind = sim::ScenarioKind::kNone;
-  so.scenario.onset_s = 1.0;  // unused without a conflict, but validated against the length
-  so.scenario.duration_s = 1.0;
-  sim::Simulator(so).writeDataset();
+  const std::string seq = base + "/seq";
+  components::test::writeCleanSequence(seq, 5, 4.0);
 
   auto plan = LaunchFile::load(MCVIO_REPO_ROOT "/config/pipeline.yaml")
-                  .resolve({{"data", so.output_dir}, {"lossless", "true"}, {"record", "true"}, {"bag", base + "/bag"},
+                  .resolve({{"data", seq}, {"lossless", "true"}, {"record", "true"}, {"bag", base + "/bag"},
                             {"mode", "auto"}});
   for (auto& e : plan.entries) e.player.progress = false;
   std::ostringstream log;
@@ -236,7 +229,7 @@ TEST(Launcher, LosslessLaunchOfTheShippedFileRecordsTheOfflineRunsPoses) {
   const auto& backend = result.entries[2].backend;
   const auto& player = result.entries[3];
   EXPECT_TRUE(player.error.empty()) << player.error;
-  const auto data = dataset::EurocDataset::open(so.output_dir);
+  const auto data = dataset::EurocDataset::open(seq);
   EXPECT_EQ(player.playback.frames, data.stereoFrames().size());
   EXPECT_EQ(frontend.pairs_received, data.stereoFrames().size());
   EXPECT_EQ(frontend.frames_published + frontend.frames_skipped, frontend.pairs_received);
@@ -260,7 +253,7 @@ TEST(Launcher, LosslessLaunchOfTheShippedFileRecordsTheOfflineRunsPoses) {
     recorded.push_back({components::stampOf(o.header()), {p.x(), p.y(), p.z()}});
   }
   pipeline::OfflineRunOptions ro;
-  ro.dataset_dir = so.output_dir;
+  ro.dataset_dir = seq;
   ro.output_dir = base + "/run";
   ro.mode = "auto";
   ro.progress = false;
@@ -290,18 +283,11 @@ TEST(Launcher, LosslessLaunchOfTheShippedFileRecordsTheOfflineRunsPoses) {
 TEST(Launcher, AFailingPlayerEndsTheLaunchAndTheBagIsClosed) {
   const std::string base = ::testing::TempDir() + "/launch_fail_" + std::to_string(getpid());
   std::filesystem::remove_all(base);
-  sim::SimulatorOptions so;
-  so.output_dir = base + "/seq";
-  so.overwrite = true;
-  so.seed = 2;
-  so.duration_s = 2.0;
-  so.scenario.kind = sim::ScenarioKind::kNone;
-  so.scenario.onset_s = 0.5;
-  so.scenario.duration_s = 0.5;
-  sim::Simulator(so).writeDataset();
+  const std::string seq = base + "/seq";
+  components::test::writeCleanSequence(seq, 2, 2.0);
   const std::string text = "components:\n"
                            "  - component: recorder\n    output: " + base + "/bag\n    topics: [/mcvio/odometry]\n"
-                           "  - component: player\n    input: " + so.output_dir + "\n    lossless: true\n"
+                           "  - component: player\n    input: " + seq + "\n    lossless: true\n"
                            "    wait_for_readers: 1\n    progress: false\n";
   const auto plan = LaunchFile::parse(text, "fail.yaml", base).resolve({});
   components::Launcher launcher(plan, components::test::testParticipantOptions(67), nullptr);
