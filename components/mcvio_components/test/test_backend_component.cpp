@@ -193,7 +193,7 @@ std::vector<Pose> runOverDdsAndCheckTheEstimatorStage(const std::string& dir, in
 }
 
 // The same data through `mcvio run`: the same frames get a pose, and the poses agree to
-// `tolerance` (see the callers for why it is not 1e-6 yet).
+// `tolerance`.
 void compareWithOfflineRun(const std::string& dir, const std::vector<Pose>& odometry, double tolerance) {
   pipeline::OfflineRunOptions ro;
   ro.dataset_dir = dir;
