@@ -50,12 +50,8 @@ const std::map<std::string, LaunchPlan::Kind>& kinds() {
 }  // namespace
 
 const char* LaunchPlan::kindName(Kind kind) {
-  switch (kind) {
-    case Kind::kPlayer: return "player";
-    case Kind::kFrontend: return "frontend";
-    case Kind::kBackend: return "backend";
-    case Kind::kRecorder: return "recorder";
-  }
+  for (const auto& [name, k] : kinds())
+    if (k == kind) return name.c_str();
   return "?";
 }
 
@@ -65,7 +61,6 @@ bool LaunchPlan::has(Kind kind) const {
 
 LaunchFile LaunchFile::load(const std::string& path) {
   namespace fs = std::filesystem;
-  if (fs::is_directory(path)) throw InputError(path + ": is a folder; the launch file must be a YAML file");
   LaunchFile f;
   f.source_ = path;
   f.dirname_ = fs::absolute(fs::path(path)).parent_path().lexically_normal().string();
@@ -110,6 +105,12 @@ void LaunchFile::readArguments() {
   }
 }
 
+std::string LaunchFile::declaredNames() const {
+  std::vector<std::string> names;
+  for (const auto& a : arguments_) names.push_back(a.name);
+  return joined(names);
+}
+
 std::string LaunchFile::at(const YAML::Node& node) const {
   const auto mark = node.Mark();
   return mark.line >= 0 ? source_ + ":" + std::to_string(mark.line + 1) + ": " : source_ + ": ";
@@ -146,12 +147,9 @@ std::string LaunchFile::substitute(const std::string& text, const Values& args, 
     if (w[0] == "arg") {
       if (w.size() != 2) throw InputError(at(where) + what + ": $(arg NAME) takes one name");
       const auto it = args.find(w[1]);
-      if (it == args.end()) {
-        std::vector<std::string> declared;
-        for (const auto& a : arguments_) declared.push_back(a.name);
+      if (it == args.end())
         throw InputError(at(where) + what + ": no argument '" + w[1] + "' is declared under 'arguments:' (declared: " +
-                         joined(declared) + ")");
-      }
+                         declaredNames() + ")");
       out += it->second;
     } else if (w[0] == "env") {
       if (w.size() != 2 && w.size() != 3) throw InputError(at(where) + what + ": $(env NAME) or $(env NAME DEFAULT)");
@@ -205,11 +203,8 @@ LaunchPlan LaunchFile::resolve(const std::map<std::string, std::string>& values)
   const std::vector<Argument>& declared = arguments_;
   const YAML::Node arg_node = top.has("arguments") ? top.child("arguments") : YAML::Node();
   for (const auto& [name, value] : values) {
-    if (std::none_of(declared.begin(), declared.end(), [&](const Argument& a) { return a.name == name; })) {
-      std::vector<std::string> names;
-      for (const auto& a : declared) names.push_back(a.name);
-      throw InputError(source_ + ": no argument '" + name + "' is declared (declared: " + joined(names) + ")");
-    }
+    if (std::none_of(declared.begin(), declared.end(), [&](const Argument& a) { return a.name == name; }))
+      throw InputError(source_ + ": no argument '" + name + "' is declared (declared: " + declaredNames() + ")");
   }
   std::vector<std::string> missing;
   for (const auto& a : declared) {

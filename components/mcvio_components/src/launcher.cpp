@@ -29,14 +29,14 @@ using Kind = LaunchPlan::Kind;
 
 double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// Waits until `state()` has not changed for `quiet` and `done()` holds, or `timeout` passes (or
-// Ctrl-C). True when it got there.
+// Waits until `state()` has not changed for `quiet` and `done()` holds, or `timeout` passes (or,
+// with `until_signal`, Ctrl-C). True when it got there.
 bool waitUntilSettled(const std::function<std::vector<std::size_t>()>& state, const std::function<bool()>& done,
-                      std::chrono::milliseconds quiet, std::chrono::duration<double> timeout) {
+                      std::chrono::milliseconds quiet, std::chrono::duration<double> timeout, bool until_signal = true) {
   const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(timeout);
   auto last = state();
   auto since = Clock::now();
-  while (Clock::now() < deadline && !dds::ShutdownSignal::requested()) {
+  while (Clock::now() < deadline && !(until_signal && dds::ShutdownSignal::requested())) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
     const auto now = state();
     if (now != last) {
@@ -193,23 +193,23 @@ Launcher::Result Launcher::run() {
       }
     }
     const bool played = !threads.empty() && !player_failed;
+    const auto counters = [&] {
+      std::vector<std::size_t> n;
+      for (const auto& s : slots) {
+        if (s.frontend) {
+          const auto f = s.frontend->stats();
+          n.insert(n.end(), {f.pairs_received, f.frames_published, f.frames_skipped, f.pairs_dropped});
+        }
+        if (s.backend) {
+          const auto b = s.backend->stats();
+          n.insert(n.end(), {b.frames_received, b.frames_processed, b.imu_received});
+        }
+        if (s.recorder) n.push_back(s.recorder->messagesWritten());
+      }
+      return n;
+    };
     if (played && !result.interrupted && plan_.exit_when_played) {
       say("playback done; waiting for the components to handle what it published");
-      const auto counters = [&] {
-        std::vector<std::size_t> n;
-        for (const auto& s : slots) {
-          if (s.frontend) {
-            const auto f = s.frontend->stats();
-            n.insert(n.end(), {f.pairs_received, f.frames_published, f.frames_skipped, f.pairs_dropped});
-          }
-          if (s.backend) {
-            const auto b = s.backend->stats();
-            n.insert(n.end(), {b.frames_received, b.frames_processed, b.imu_received});
-          }
-          if (s.recorder) n.push_back(s.recorder->messagesWritten());
-        }
-        return n;
-      };
       const auto handled = [&] {
         for (const auto& s : slots) {
           if (s.frontend) {
@@ -221,11 +221,7 @@ Launcher::Result Launcher::run() {
       };
       result.drained = waitUntilSettled(counters, handled, std::chrono::milliseconds(1000),
                                         std::chrono::duration<double>(plan_.drain_timeout_s));
-      for (auto& s : slots)
-        if (s.backend) s.backend->flush();  // frames still waiting for IMU that will not come now
-      // What the flush published still has to reach the recorders.
-      waitUntilSettled(counters, [] { return true; }, std::chrono::milliseconds(500), std::chrono::seconds(10));
-      if (!result.drained)
+      if (!result.drained && !dds::ShutdownSignal::requested())
         say("warning: the components had not caught up after drain_timeout (" + std::to_string(plan_.drain_timeout_s) +
             " s); stopping anyway");
     } else if (!player_failed && !result.interrupted) {
@@ -235,7 +231,10 @@ Launcher::Result Launcher::run() {
     }
     result.interrupted = result.interrupted || dds::ShutdownSignal::requested();
     for (auto& s : slots)
-      if (s.backend) s.backend->flush();
+      if (s.backend) s.backend->flush();  // frames still waiting for IMU that will not come now
+    // What the flush published still has to reach the recorders, after a Ctrl-C too (bounded).
+    if (plan_.has(Kind::kRecorder))
+      waitUntilSettled(counters, [] { return true; }, std::chrono::milliseconds(500), std::chrono::seconds(5), false);
     for (std::size_t i = 0; i < slots.size(); ++i) {
       if (slots[i].frontend) result.entries[i].frontend = slots[i].frontend->stats();
       if (slots[i].backend) result.entries[i].backend = slots[i].backend->stats();

@@ -62,6 +62,7 @@ class LaunchFile {
   LaunchPlan::Entry entry(const YAML::Node& node, std::size_t index, const Values& args) const;
   void readArguments();
   std::string at(const YAML::Node& node) const;  ///< "<file>:<line>: "
+  std::string declaredNames() const;             ///< "data, mode" (or "none"), for messages
 
   std::string source_, dirname_;
   YAML::Node root_;
