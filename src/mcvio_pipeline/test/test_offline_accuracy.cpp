@@ -13,12 +13,14 @@
 #include <unistd.h>
 
 #include "clean_sequences.hpp"
+#include "rendered_frame_cache.hpp"
 #include "mcvio/pipeline/offline_run.hpp"
 #include "mcvio/sim/simulator.hpp"
 #include "run_accuracy.hpp"
 
 using namespace mcvio;
 using pipeline::sequences::CovarianceLog;
+using pipeline::sequences::RenderedFrameCache;
 
 namespace {
 
@@ -28,7 +30,7 @@ constexpr double kMaxAteM = 0.05;
 // A clean sequence may show a motion conflict in at most this share of its frames (issue 6).
 constexpr double kMaxConflictFraction = 0.02;
 
-pipeline::sequences::RunAccuracy runAndEvaluate(const sim::Simulator& simulator, const std::string& name,
+pipeline::sequences::RunAccuracy runAndEvaluate(RenderedFrameCache& frames, const std::string& name,
                                                 pipeline::OfflineRunSummary* summary, std::size_t* conflict_frames,
                                                 const std::string& mode = "",
                                                 const std::string& config_file = MCVIO_PIPELINE_CONFIG,
@@ -49,8 +51,9 @@ pipeline::sequences::RunAccuracy runAndEvaluate(const sim::Simulator& simulator,
     if (first_conflict != nullptr && *first_conflict == 0) *first_conflict = r.estimate.t;
   };
   if (first_conflict != nullptr) *first_conflict = 0;
-  *summary = pipeline::runOffline(pipeline::sequences::renderedInput(simulator), o);
-  const auto a = pipeline::sequences::evaluateRun(out + "/trajectory.tum", simulator.groundTruth(), covariances);
+  *summary = pipeline::runOffline(frames.input(), o);
+  const auto a =
+      pipeline::sequences::evaluateRun(out + "/trajectory.tum", frames.simulator().groundTruth(), covariances);
   std::cout << name << ": " << summary->frames << " frames, " << a.poses << " poses, " << summary->resets
             << " resets, ATE pos+yaw " << a.ate_pos_yaw_rmse << " m (max " << a.ate_pos_yaw_max << "), ATE SE3 "
             << a.ate_se3_rmse << " m, RPE 1 s " << a.rpe_1s_translation_rmse << " m / " << a.rpe_1s_rotation_rmse_deg
@@ -119,16 +122,18 @@ struct ShippedAndVariant {
   Timestamp shipped_first_conflict = 0, variant_first_conflict = 0;  ///< 0: no conflict frame
 };
 
-ShippedAndVariant runShippedAndVariant(const sim::Simulator& simulator, const std::string& name,
+ShippedAndVariant runShippedAndVariant(RenderedFrameCache& frames, const std::string& name,
                                        const std::string& from, const std::string& to, const std::string& mode) {
   ShippedAndVariant r;
   const std::string variant = shippedConfigWith(from, to, name + "_variant");
   if (variant.empty()) return r;
-  r.variant = runAndEvaluate(simulator, name + "_variant", &r.variant_summary, &r.variant_conflict_frames, mode, variant,
+  r.variant = runAndEvaluate(frames, name + "_variant", &r.variant_summary, &r.variant_conflict_frames, mode, variant,
                              &r.variant_first_conflict);
-  r.shipped = runAndEvaluate(simulator, name + "_shipped", &r.shipped_summary, &r.shipped_conflict_frames, mode,
+  r.shipped = runAndEvaluate(frames, name + "_shipped", &r.shipped_summary, &r.shipped_conflict_frames, mode,
                              MCVIO_PIPELINE_CONFIG, &r.shipped_first_conflict);
   std::filesystem::remove(variant);
+  // Both runs drew on one rendering of every pair.
+  EXPECT_EQ(frames.rendered(), frames.simulator().frameTimes().size());
   r.ran = true;
   return r;
 }
@@ -137,9 +142,10 @@ ShippedAndVariant runShippedAndVariant(const sim::Simulator& simulator, const st
 
 TEST(OfflineAccuracy, RenderedOffice60sNoneScenario) {
   const sim::Simulator simulator(pipeline::sequences::renderedNone(60.0, 1));
+  RenderedFrameCache frames(simulator);
   pipeline::OfflineRunSummary s;
   std::size_t conflict_frames = 0;
-  const auto a = runAndEvaluate(simulator, "rendered_none_60s", &s, &conflict_frames);
+  const auto a = runAndEvaluate(frames, "rendered_none_60s", &s, &conflict_frames);
   // Consistent covariance (position NEES in the estimator's gauge, expectation 3): measured 3.72 with
   // the shipped IMU noise x3 and 0.4 px feature noise (1.20 at x6; 0.30 with x6 and 1 px); 1.30
   // since the still-tracked landmarks' history goes into the prior (ATE 0.0115 m).
@@ -151,10 +157,11 @@ TEST(OfflineAccuracy, SemiRealV101First60s) {
   if (excerpt.empty()) GTEST_SKIP() << "no $MCVIO_SHARED_DIR/data/euroc_V1_01_excerpt";
   const std::string work = ::testing::TempDir() + "/semi_real_csv_" + std::to_string(getpid());
   const sim::Simulator simulator(pipeline::sequences::semiRealV101(excerpt, work, 60.0));
+  RenderedFrameCache frames(simulator);
   std::filesystem::remove_all(work);
   pipeline::OfflineRunSummary s;
   std::size_t conflict_frames = 0;
-  const auto a = runAndEvaluate(simulator, "semi_real_v101_60s", &s, &conflict_frames);
+  const auto a = runAndEvaluate(frames, "semi_real_v101_60s", &s, &conflict_frames);
   // The real IMU's takeoff once froze a still-moving bias estimate into the detector's reference
   // and kept a false conflict open for 90 % of the run (the conflict-frame bound below).
   // Consistent with the real IMU: position NEES near its expectation 3 (measured 2.03 with the IMU
@@ -173,10 +180,11 @@ TEST(OfflineAccuracy, SemiRealV101First60s) {
 // 1015e6c; 0.039 m since vision's motion weighs its points by their depth uncertainty, 5432f6a).
 TEST(OfflineAccuracy, RenderedSlowObjectFoundByTheRegionSplitStaysSelective) {
   const sim::Simulator simulator(renderedScenario(sim::ScenarioKind::kSlowObject, 3, 30.0, 10.0, 12.0));
+  RenderedFrameCache frames(simulator);
   pipeline::OfflineRunSummary s_ref, s_auto;
   std::size_t conflict_ref = 0, conflict_auto = 0;
-  const auto ref = runAndEvaluate(simulator, "rendered_slow_object_ref", &s_ref, &conflict_ref, "reference");
-  const auto aut = runAndEvaluate(simulator, "rendered_slow_object_auto", &s_auto, &conflict_auto, "auto");
+  const auto ref = runAndEvaluate(frames, "rendered_slow_object_ref", &s_ref, &conflict_ref, "reference");
+  const auto aut = runAndEvaluate(frames, "rendered_slow_object_auto", &s_auto, &conflict_auto, "auto");
   EXPECT_EQ(s_auto.resets, 0u);
   EXPECT_GT(ref.ate_pos_yaw_rmse, 0.2);
   EXPECT_LT(aut.ate_pos_yaw_rmse, 0.2 * ref.ate_pos_yaw_rmse);
@@ -194,9 +202,10 @@ TEST(OfflineAccuracy, RenderedFullOcclusionFindsTheMapAgainByPosition) {
   sim::SimulatorOptions so = renderedScenario(sim::ScenarioKind::kSelfOcclusion, 1, 32.0, 24.0, 4.0);
   so.scenario.coverage = 1.0;
   const sim::Simulator simulator(so);
+  RenderedFrameCache frames(simulator);
   // The variant: the registration off.
   const std::string section = "\n  conflict:\n";
-  const auto r = runShippedAndVariant(simulator, "rendered_full_occlusion", section,
+  const auto r = runShippedAndVariant(frames, "rendered_full_occlusion", section,
                                       section + "    smoothing_registration_radius_m: 0\n", "auto");
   ASSERT_TRUE(r.ran);
   EXPECT_EQ(r.shipped_summary.resets, 0u);
@@ -212,7 +221,8 @@ TEST(OfflineAccuracy, RenderedFullOcclusionFindsTheMapAgainByPosition) {
 // seeds 1, 8 and 9 0.012 / 0.022 / 0.017 -> 0.006 / 0.008 / 0.005 m).
 TEST(OfflineAccuracy, TrackedLandmarkHistoryInThePriorHalvesTheCleanError) {
   const sim::Simulator simulator(pipeline::sequences::renderedNone(30.0, 1));
-  const auto r = runShippedAndVariant(simulator, "rendered_none_history", "marginalize_tracked_landmark_history: true",
+  RenderedFrameCache frames(simulator);
+  const auto r = runShippedAndVariant(frames, "rendered_none_history", "marginalize_tracked_landmark_history: true",
                                       "marginalize_tracked_landmark_history: false", "");
   ASSERT_TRUE(r.ran);
   EXPECT_EQ(r.shipped_summary.resets, 0u);
@@ -227,8 +237,9 @@ TEST(OfflineAccuracy, TrackedLandmarkHistoryInThePriorHalvesTheCleanError) {
 // outlier's landmark: 0.0160 against 0.0081 m.
 TEST(OfflineAccuracy, APedestrianFoundLateDoesNotMoveTheWindowWhenItsTracksGo) {
   const sim::Simulator simulator(renderedScenario(sim::ScenarioKind::kPedestrian, 8, 30.0, 10.0, 12.0));
+  RenderedFrameCache frames(simulator);
   // The variant: the tighter tolerance inside conflicts.
-  const auto r = runShippedAndVariant(simulator, "rendered_pedestrian_tolerance", "conflict_function_tolerance: 1.0e-3",
+  const auto r = runShippedAndVariant(frames, "rendered_pedestrian_tolerance", "conflict_function_tolerance: 1.0e-3",
                                       "conflict_function_tolerance: 1.0e-4", "auto");
   ASSERT_TRUE(r.ran);
   EXPECT_EQ(r.shipped_summary.resets, 0u);
@@ -247,15 +258,16 @@ TEST(OfflineAccuracy, APedestrianFoundLateDoesNotMoveTheWindowWhenItsTracksGo) {
 // more tracks, 0.0077 / 0.0222 / 0.0138 m).
 TEST(OfflineAccuracy, AnOccluderOnlyTheFrontendFindsKeepsTheStaticHistory) {
   const sim::Simulator simulator(renderedScenario(sim::ScenarioKind::kSelfOcclusion, 9, 30.0, 10.0, 12.0));
+  RenderedFrameCache frames(simulator);
   const std::string section = "\n  conflict:\n";
   const std::string paused =
       shippedConfigWith(section, section + "    frontend_conflict_keeps_history: false\n", "history_paused");
   ASSERT_FALSE(paused.empty());
   pipeline::OfflineRunSummary s_ref, s_paused, s_auto;
   std::size_t conflict_ref = 0, conflict_paused = 0, conflict_auto = 0;
-  const auto ref = runAndEvaluate(simulator, "rendered_laptop_ref", &s_ref, &conflict_ref, "reference");
-  const auto off = runAndEvaluate(simulator, "rendered_laptop_paused", &s_paused, &conflict_paused, "auto", paused);
-  const auto aut = runAndEvaluate(simulator, "rendered_laptop_auto", &s_auto, &conflict_auto, "auto");
+  const auto ref = runAndEvaluate(frames, "rendered_laptop_ref", &s_ref, &conflict_ref, "reference");
+  const auto off = runAndEvaluate(frames, "rendered_laptop_paused", &s_paused, &conflict_paused, "auto", paused);
+  const auto aut = runAndEvaluate(frames, "rendered_laptop_auto", &s_auto, &conflict_auto, "auto");
   std::filesystem::remove(paused);
   EXPECT_EQ(s_auto.resets, 0u);
   EXPECT_GT(conflict_auto, 200u);  // 240 labelled frames
@@ -271,8 +283,9 @@ TEST(OfflineAccuracy, AnOccluderOnlyTheFrontendFindsKeepsTheStaticHistory) {
 // before the shipped probation_agreeing_tests, 0.0064 / 0.0136 m).
 TEST(OfflineAccuracy, AMovingOccluderLeavesTheBudgetToTheStaticView) {
   const sim::Simulator simulator(renderedScenario(sim::ScenarioKind::kSelfOcclusion, 8, 30.0, 10.0, 12.0));
+  RenderedFrameCache frames(simulator);
   // The variant: the laptop's tracks count like any other.
-  const auto r = runShippedAndVariant(simulator, "rendered_laptop_budget", "moving_track_budget_share: 0.6",
+  const auto r = runShippedAndVariant(frames, "rendered_laptop_budget", "moving_track_budget_share: 0.6",
                                       "moving_track_budget_share: 1.0", "auto");
   ASSERT_TRUE(r.ran);
   EXPECT_EQ(r.shipped_summary.resets, 0u);
@@ -288,7 +301,8 @@ TEST(OfflineAccuracy, AMovingOccluderLeavesTheBudgetToTheStaticView) {
 // 0.0149 m; the plain VIO 0.0273 m, the clean run of this seed 0.0069 m).
 TEST(OfflineAccuracy, StaticLandmarksBornBehindAnOccluderJoinAfterTwoAgreeingTests) {
   const sim::Simulator simulator(renderedScenario(sim::ScenarioKind::kSelfOcclusion, 5, 30.0, 10.0, 12.0));
-  const auto r = runShippedAndVariant(simulator, "rendered_laptop_probation", "probation_agreeing_tests: 2",
+  RenderedFrameCache frames(simulator);
+  const auto r = runShippedAndVariant(frames, "rendered_laptop_probation", "probation_agreeing_tests: 2",
                                       "probation_agreeing_tests: 3", "auto");
   ASSERT_TRUE(r.ran);
   EXPECT_EQ(r.shipped_summary.resets, 0u);
@@ -306,13 +320,14 @@ TEST(OfflineAccuracy, StaticLandmarksBornBehindAnOccluderJoinAfterTwoAgreeingTes
 // the library's factor 1.5, 0.65 s, TPR 0.946).
 TEST(OfflineAccuracy, AVehicleIsFoundWithinTheFirstHalfSecondOfItsRide) {
   const sim::Simulator simulator(renderedScenario(sim::ScenarioKind::kVehicle, 4, 30.0, 10.0, 12.0));
+  RenderedFrameCache frames(simulator);
   // The variant: a bend must reach the library's 1.5 x the limit.
-  const auto r = runShippedAndVariant(simulator, "rendered_vehicle_fast_drift", "bias_drift_fast_factor: 1.3",
+  const auto r = runShippedAndVariant(frames, "rendered_vehicle_fast_drift", "bias_drift_fast_factor: 1.3",
                                       "bias_drift_fast_factor: 1.5", "auto");
   ASSERT_TRUE(r.ran);
-  const auto& frames = simulator.frameTimes();
-  const Timestamp onset = frames.front() + fromSeconds(10.0);
-  const auto first_labelled = *std::upper_bound(frames.begin(), frames.end(), onset);
+  const auto& times = simulator.frameTimes();
+  const Timestamp onset = times.front() + fromSeconds(10.0);
+  const auto first_labelled = *std::upper_bound(times.begin(), times.end(), onset);
   ASSERT_GT(r.shipped_first_conflict, 0);
   ASSERT_GT(r.variant_first_conflict, 0);
   const double shipped_delay = toSeconds(r.shipped_first_conflict - first_labelled);
