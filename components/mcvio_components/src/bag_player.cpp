@@ -53,7 +53,8 @@ PlaybackSummary BagPlayer::run() {
   if (options_.wait_for_readers_s > 0 && options_.min_readers > 0) {
     const auto timeout = std::chrono::milliseconds(static_cast<int>(options_.wait_for_readers_s * 1000));
     for (auto& [name, p] : pubs) {
-      if (!p->waitForReaders(options_.min_readers, timeout) && options_.lossless) {
+      const int wanted = options_.min_readers + (options_.extra_readers ? options_.extra_readers(name) : 0);
+      if (!p->waitForReaders(wanted, timeout) && options_.lossless) {
         throw std::runtime_error("play: no reader of " + name + "; lossless playback needs its readers first");
       }
     }

@@ -54,7 +54,7 @@ bool waitUntilSettled(const std::function<std::vector<std::size_t>()>& state, co
 Launcher::Launcher(LaunchPlan plan, dds::ParticipantOptions participant, std::ostream* log)
     : plan_(std::move(plan)), participant_(std::move(participant)), log_(log) {}
 
-Launcher::Result Launcher::run() {
+Launcher::Result Launcher::run(const Control& control) {
   const auto t0 = Clock::now();
   const auto say = [this](const std::string& line) {
     if (log_) *log_ << "mcvio launch: " << line << "\n" << std::flush;
@@ -169,6 +169,8 @@ Launcher::Result Launcher::run() {
       }
     }
 
+    if (control.started) control.started();
+
     // Play, each player on a thread of its own; then wait for the rest to catch up.
     std::vector<std::thread> threads;
     for (std::size_t i = 0; i < slots.size(); ++i) {
@@ -208,25 +210,36 @@ Launcher::Result Launcher::run() {
       }
       return n;
     };
-    if (played && !result.interrupted && plan_.exit_when_played) {
-      say("playback done; waiting for the components to handle what it published");
-      const auto handled = [&] {
-        for (const auto& s : slots) {
-          if (s.frontend) {
-            const auto f = s.frontend->stats();
-            if (f.frames_published + f.frames_skipped + f.pairs_dropped < f.pairs_received) return false;
-          }
+    const auto handled = [&] {
+      for (const auto& s : slots) {
+        if (s.frontend) {
+          const auto f = s.frontend->stats();
+          if (f.frames_published + f.frames_skipped + f.pairs_dropped < f.pairs_received) return false;
         }
-        return true;
-      };
+      }
+      return true;
+    };
+    const auto drain = [&] {
       result.drained = waitUntilSettled(counters, handled, std::chrono::milliseconds(1000),
                                         std::chrono::duration<double>(plan_.drain_timeout_s));
       if (!result.drained && !dds::ShutdownSignal::requested())
         say("warning: the components had not caught up after drain_timeout (" + std::to_string(plan_.drain_timeout_s) +
             " s); stopping anyway");
+    };
+    if (played && !result.interrupted && plan_.exit_when_played) {
+      say("playback done; waiting for the components to handle what it published");
+      drain();
     } else if (!player_failed && !result.interrupted) {
       say(threads.empty() ? "running; Ctrl-C to stop" : "playback done; running until Ctrl-C (exit_when_played: false)");
-      while (!dds::ShutdownSignal::waitFor(std::chrono::seconds(1))) {
+      bool data_ended = false;
+      while (!dds::ShutdownSignal::waitFor(std::chrono::milliseconds(100)))
+        if (threads.empty() && control.data_ended && control.data_ended()) {
+          data_ended = true;
+          break;
+        }
+      if (data_ended) {
+        say("the data has ended; handling what is queued");
+        drain();
       }
     }
     result.interrupted = result.interrupted || dds::ShutdownSignal::requested();

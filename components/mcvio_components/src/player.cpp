@@ -90,7 +90,8 @@ PlaybackSummary Player::run() {
   if (options_.wait_for_readers_s > 0 && options_.min_readers > 0) {
     const auto timeout = std::chrono::milliseconds(static_cast<int>(options_.wait_for_readers_s * 1000));
     for (auto* p : pubs_->all()) {
-      if (!p->waitForReaders(options_.min_readers, timeout) && options_.lossless) {
+      const int wanted = options_.min_readers + (options_.extra_readers ? options_.extra_readers(p->topic()) : 0);
+      if (!p->waitForReaders(wanted, timeout) && options_.lossless) {
         throw std::runtime_error("player: no reader of " + p->topic() + " within " +
                                  std::to_string(options_.wait_for_readers_s) +
                                  " s; lossless playback needs its readers before it starts");

@@ -54,6 +54,14 @@ Recorder::~Recorder() {
   if (running_) stop();
 }
 
+bool RecorderOptions::selects(const std::string& topic) const {
+  if (all) return true;
+  for (const auto& name : topics) {
+    if (name == topic || "/" + name == topic) return true;
+  }
+  return !regex.empty() && std::regex_search(topic, std::regex(regex));
+}
+
 bool Recorder::selected(const dds::DiscoveredTopic& t) const {
   if (!t.is_ros || t.publishers == 0) return false;
   if (options_.all) return true;

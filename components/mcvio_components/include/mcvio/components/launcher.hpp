@@ -1,4 +1,5 @@
 #pragma once
+#include <functional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -33,6 +34,15 @@ class Launcher {
     double wall_seconds = 0;
   };
 
+  /// Hooks for a component run in a process of its own (LaunchSupervisor).
+  struct Control {
+    /// Called once every component has started, before the players play.
+    std::function<void()> started;
+    /// Polled while a plan without players runs: true = the data has ended; handle what is
+    /// queued (as after a player, bounded by drain_timeout_s), then stop.
+    std::function<bool()> data_ended;
+  };
+
   /// `participant`: domain and profiles; each component's participant is named mcvio_<name>.
   /// `log`: progress lines and the summary (nullptr: silent).
   Launcher(LaunchPlan plan, dds::ParticipantOptions participant, std::ostream* log);
@@ -40,7 +50,7 @@ class Launcher {
   /// Starts every component and runs until the plan says stop. Throws mcvio::InputError or
   /// std::runtime_error when a component cannot start (a missing calibration, a bag directory
   /// that exists); what was started is stopped first.
-  Result run();
+  Result run(const Control& control = {});
 
   /// One line per component, as the single commands print at their end.
   static std::string summary(const Result& result);

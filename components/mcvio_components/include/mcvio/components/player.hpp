@@ -1,5 +1,6 @@
 #pragma once
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -18,6 +19,9 @@ struct PlayerOptions {
   /// (lossless mode fails if they do not come: samples published before a reader matches are gone).
   double wait_for_readers_s = 10.0;
   int min_readers = 1;
+  /// Readers to wait for on a topic on top of min_readers (`mcvio launch --processes`: the
+  /// recorders in other processes that record it). Empty: none.
+  std::function<int(const std::string& topic)> extra_readers;
   /// Then wait this long more: matching is two-sided, and a best-effort reader drops samples that
   /// arrive before it has matched the writer itself (the writer already counts it) [s].
   double settle_s = 0.5;

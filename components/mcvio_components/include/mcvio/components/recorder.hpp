@@ -28,6 +28,8 @@ struct RecorderOptions {
 
   /// Throws std::invalid_argument naming the problem (nothing selected, bad regex).
   void validate() const;
+  /// Whether a topic of this ROS 2 name would be recorded (options validated).
+  bool selects(const std::string& topic) const;
 };
 
 struct RecordingSummary {
