@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # `mcvio launch` as a user runs it: the shipped config/pipeline.yaml lists its arguments, runs a
 # lossless player -> frontend -> backend -> recorder launch to the end (every frame handled, the
-# poses in the bag), stops cleanly on Ctrl-C with the bag closed, and bad launch input is named.
+# poses in the bag), in one process and with --processes (one per component: the same bag
+# contents), stops cleanly on Ctrl-C with the bag closed, and bad launch input is named.
 set -u
 mcvio=$1
 file="$(cd "$(dirname "$0")/../.." && pwd)/config/pipeline.yaml"
@@ -30,6 +31,20 @@ poses=$("$mcvio" bag info "$tmp/bag" | grep -F 'Topic: /mcvio/odometry |' | sed 
 if [ "${poses:-0}" -gt 0 ]; then echo "ok: the bag holds $poses poses"; else echo "FAIL: no /mcvio/odometry in the launch's bag"; failed=1; fi
 expect 2 "$tmp/bag: exists and is not an empty directory" -- "$mcvio" --domain "$domain" launch "$file" data:="$tmp/seq" record:=true bag:="$tmp/bag"
 
+# One process per component: every process ends cleanly and the bag holds what the in-process
+# launch recorded, topic by topic.
+expect_timeout=120 expect 0 "recorder 'recorder': process" -- \
+  "$mcvio" --domain "$domain" launch "$file" data:="$tmp/seq" lossless:=true record:=true bag:="$tmp/pbag" -q --processes
+counts() { "$mcvio" bag info "$1" | grep -F 'Count:' | sed -E 's/.*Topic: ([^ ]+) .*Count: ([0-9]+).*/\1 \2/' | sort; }
+if [ -n "$(counts "$tmp/bag")" ] && [ "$(counts "$tmp/bag")" = "$(counts "$tmp/pbag")" ]; then
+  echo "ok: --processes recorded what the in-process launch did ($(counts "$tmp/pbag" | tr '\n' ' '))"
+else
+  echo "FAIL: --processes recorded other counts:"; diff <(counts "$tmp/bag") <(counts "$tmp/pbag"); failed=1
+fi
+expect 1 "launch: frontend 'frontend' exited with 2 before it started" -- \
+  "$mcvio" --domain "$domain" launch "$file" data:=/nonexistent --processes
+expect 2 "starts no component 'nope'" -- "$mcvio" --domain "$domain" launch "$file" data:="$tmp/seq" --node nope
+
 # Without a player it runs until Ctrl-C, then closes the bag: exit 130.
 "$mcvio" --domain "$domain" launch "$file" data:="$tmp/seq" play:=false record:=true bag:="$tmp/live" > "$tmp/live.txt" 2>&1 &
 pid=$!
@@ -41,5 +56,22 @@ if [ $rc -eq 130 ] && grep -q "interrupted" "$tmp/live.txt" && [ -f "$tmp/live/m
   echo "ok: mcvio launch stopped on SIGINT (130), bag closed"
 else
   echo "FAIL: mcvio launch after SIGINT exited $rc:"; tail -n 5 "$tmp/live.txt"; failed=1
+fi
+
+# --processes without a player: Ctrl-C reaches the supervisor, which stops every process; 130,
+# bag closed.
+"$mcvio" --domain "$domain" launch "$file" data:="$tmp/seq" play:=false record:=true bag:="$tmp/plive" --processes \
+  > "$tmp/plive.txt" 2>&1 &
+pid=$!
+for _ in $(seq 1 200); do grep -q "started backend 'backend'" "$tmp/plive.txt" && break; sleep 0.1; done
+sleep 1
+kill -INT $pid
+wait $pid
+rc=$?
+if [ $rc -eq 130 ] && grep -q "recorder 'recorder': process [0-9]*, exited with 130 (interrupted)" "$tmp/plive.txt" &&
+   [ -f "$tmp/plive/metadata.yaml" ]; then
+  echo "ok: mcvio launch --processes stopped every process on SIGINT (130), bag closed"
+else
+  echo "FAIL: mcvio launch --processes after SIGINT exited $rc:"; tail -n 8 "$tmp/plive.txt"; failed=1
 fi
 exit $failed

@@ -34,7 +34,8 @@ struct Child {
   int stdin_w = -1;  // the parent's end of the child's standard input
   int ready_r = -1;  // the parent's end of the ready pipe
   bool running = false;
-  int exit_code = -1;
+  int exit_code = -1;  // -1 until it exits, or when a signal ended it
+  int signal = 0;      // the signal that ended it
 };
 
 void closeFd(int& fd) {
@@ -42,15 +43,9 @@ void closeFd(int& fd) {
   fd = -1;
 }
 
-int exitCodeOf(int status) {
-  if (WIFEXITED(status)) return WEXITSTATUS(status);
-  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
-  return -1;
-}
-
-std::string describeExit(int code) {
-  if (code > 128) return "was ended by signal " + std::to_string(code - 128) + " (" + strsignal(code - 128) + ")";
-  return "exited with " + std::to_string(code);
+std::string describeExit(int exit_code, int signal) {
+  if (signal != 0) return "was ended by signal " + std::to_string(signal) + " (" + strsignal(signal) + ")";
+  return "exited with " + std::to_string(exit_code) + (exit_code == 130 ? " (interrupted)" : "");
 }
 
 std::string label(const Child& c) {
@@ -64,7 +59,8 @@ bool reap(Child& c, bool block = false) {
   const pid_t r = ::waitpid(c.pid, &status, block ? 0 : WNOHANG);
   if (r == 0) return false;
   c.running = false;
-  c.exit_code = r == c.pid ? exitCodeOf(status) : -1;
+  if (r == c.pid && WIFEXITED(status)) c.exit_code = WEXITSTATUS(status);
+  if (r == c.pid && WIFSIGNALED(status)) c.signal = WTERMSIG(status);
   closeFd(c.stdin_w);
   closeFd(c.ready_r);
   return true;
@@ -194,7 +190,7 @@ LaunchSupervisor::Result LaunchSupervisor::run() {
       const auto r = waitReady(c, options_.start_timeout_s);
       if (r == Readiness::kReady) continue;
       if (r == Readiness::kInterrupted) break;
-      if (r == Readiness::kExited) fail(label(c) + " " + describeExit(c.exit_code) + " before it started");
+      if (r == Readiness::kExited) fail(label(c) + " " + describeExit(c.exit_code, c.signal) + " before it started");
       else fail(label(c) + " had not started after " + std::to_string(options_.start_timeout_s) + " s");
       break;
     }
@@ -212,10 +208,10 @@ LaunchSupervisor::Result LaunchSupervisor::run() {
         continue;
       }
       if (c.entry->kind == Kind::kPlayer) {
-        if (c.exit_code != 0) fail(label(c) + " failed: it " + describeExit(c.exit_code));
+        if (c.exit_code != 0 || c.signal != 0) fail(label(c) + " failed: it " + describeExit(c.exit_code, c.signal));
         else say(label(c) + " has played everything");
       } else {
-        fail(label(c) + " " + describeExit(c.exit_code) + " while the launch ran");
+        fail(label(c) + " " + describeExit(c.exit_code, c.signal) + " while the launch ran");
       }
     }
     if (!result.error.empty()) break;
@@ -260,7 +256,7 @@ LaunchSupervisor::Result LaunchSupervisor::run() {
             reap(c, true);
           }
         }
-        if (!c.running && c.exit_code != 0) fail(label(c) + " " + describeExit(c.exit_code) + " as it stopped");
+        if (!c.running && (c.exit_code != 0 || c.signal != 0)) fail(label(c) + " " + describeExit(c.exit_code, c.signal) + " as it stopped");
       }
       if (dds::ShutdownSignal::requested()) break;
     }
@@ -268,7 +264,7 @@ LaunchSupervisor::Result LaunchSupervisor::run() {
     if (result.interrupted) stopNow();
   }
   for (const auto& c : children)
-    result.children.push_back({c.entry->name, c.entry->kind, c.pid, c.exit_code});
+    result.children.push_back({c.entry->name, c.entry->kind, c.pid, c.exit_code, c.signal});
   result.wall_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return result;
 }
@@ -278,7 +274,7 @@ std::string LaunchSupervisor::summary(const Result& result) {
   for (const auto& c : result.children) {
     os << "  " << LaunchPlan::kindName(c.kind) << " '" << c.name << "': ";
     if (c.pid < 0) os << "not started";
-    else os << "process " << c.pid << ", " << (c.exit_code == 0 ? "exited cleanly" : describeExit(c.exit_code));
+    else os << "process " << c.pid << ", " << (c.exit_code == 0 ? "exited cleanly" : describeExit(c.exit_code, c.signal));
     os << "\n";
   }
   os << "  " << result.wall_seconds << " s" << (result.interrupted ? ", interrupted" : "") << "\n";

@@ -6,6 +6,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <csignal>
+#include <map>
 #include <sstream>
 #include <unistd.h>
 
@@ -95,7 +97,7 @@ TEST(LaunchSupervisor, AComponentThatExitsBeforeItStartsEndsTheLaunch) {
   const auto r = s.run();
   EXPECT_EQ(r.error, "frontend 'fe' exited with 3 before it started");
   ASSERT_EQ(r.children.size(), 3u);
-  EXPECT_EQ(r.children[0].exit_code, 130);  // the recorder got SIGINT (a real one closes its bag)
+  EXPECT_EQ(r.children[0].signal, SIGINT);  // the recorder got SIGINT (a real one closes its bag)
   EXPECT_EQ(r.children[1].exit_code, 3);
   EXPECT_EQ(r.children[2].pid, -1);  // the player never started
   EXPECT_EQ(s.lines(), (std::vector<std::string>{"start-rec", "start-fe"}));
@@ -108,7 +110,7 @@ TEST(LaunchSupervisor, AFailingPlayerOrAComponentThatDiesMidwayIsNamed) {
     s.add(Kind::kPlayer, "pl", "exit 4");
     const auto r = s.run();
     EXPECT_EQ(r.error, "player 'pl' failed: it exited with 4");
-    EXPECT_EQ(r.children[0].exit_code, 130);
+    EXPECT_EQ(r.children[0].signal, SIGINT);
   }
   {
     Scripted s;
@@ -116,7 +118,7 @@ TEST(LaunchSupervisor, AFailingPlayerOrAComponentThatDiesMidwayIsNamed) {
     s.add(Kind::kPlayer, "pl", "sleep 5");
     const auto r = s.run();
     EXPECT_EQ(r.error, "backend 'be' was ended by signal 11 (Segmentation fault) while the launch ran");
-    EXPECT_EQ(r.children[1].exit_code, 130);  // the player was stopped, not waited for
+    EXPECT_EQ(r.children[1].signal, SIGINT);  // the player was stopped, not waited for
   }
 }
 
@@ -131,7 +133,7 @@ TEST(LaunchSupervisor, AComponentThatNeverSaysItIsListeningTimesOut) {
   }, o, nullptr);
   const auto r = supervisor.run();
   EXPECT_EQ(r.error.rfind("frontend 'fe' had not started after 0.5", 0), 0u) << r.error;
-  EXPECT_EQ(r.children[0].exit_code, 130);
+  EXPECT_EQ(r.children[0].signal, SIGINT);
 }
 
 TEST(LaunchSupervisor, AProgramThatCannotBeRunIsNamed) {

@@ -36,7 +36,8 @@ class LaunchSupervisor {
     std::string name;
     LaunchPlan::Kind kind = LaunchPlan::Kind::kPlayer;
     int pid = -1;
-    int exit_code = -1;  ///< as a shell reports it: 128 + N when ended by signal N; -1: never started
+    int exit_code = -1;  ///< -1: never started, or ended by a signal
+    int signal = 0;      ///< the signal that ended it (0: it exited)
   };
   struct Result {
     std::vector<ChildResult> children;  ///< in the plan's order
