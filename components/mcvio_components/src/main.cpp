@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
       "  mcvio record -o /tmp/run --all     record the bus to a rosbag2 bag (MCAP)\n"
       "  mcvio frontend --calib DIR         stereo tracking on the bus: /mcvio/features\n"
       "  mcvio backend --calib DIR --mode auto   the estimator on the bus: /mcvio/odometry, /tf, /mcvio/conflict\n"
-      "  mcvio launch config/pipeline.yaml data:=DIR   player + frontend + backend (+ recorder) in one process\n"
+      "  mcvio launch config/pipeline.yaml data:=DIR   player + frontend + backend (+ recorder), one process or one each\n"
       "  mcvio run --dataset DIR --out OUT --mode auto   the whole VIO offline: trajectory.tum, conflict.csv, stats.json\n"
       "  mcvio eval --gt DIR --est OUT --out REPORT   ATE/RPE, detection ROC, plots against ground truth\n"
       "  mcvio bench --out DIR             the MC-VIO benchmark suite: every scenario and mode, one report",
