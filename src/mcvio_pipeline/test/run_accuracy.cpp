@@ -74,9 +74,8 @@ void writeNeesCsv(const RunAccuracy& accuracy, const std::string& path) {
   std::ofstream f(path);
   if (!f) throw std::runtime_error("cannot write " + path);
   f << "# t [s], p_gt - p_estimate [m] (x, y, z; estimate aligned at its first pose), sigma [m] (x, y, z), NEES\n";
-  f << std::setprecision(9);
   for (const auto& s : accuracy.nees_samples)
-    f << toSeconds(s.t) << "," << s.error.x() << "," << s.error.y() << "," << s.error.z() << ","
+    f << std::fixed << std::setprecision(9) << toSeconds(s.t) << std::defaultfloat << "," << s.error.x() << "," << s.error.y() << "," << s.error.z() << ","
       << std::sqrt(s.variance.x()) << "," << std::sqrt(s.variance.y()) << "," << std::sqrt(s.variance.z()) << ","
       << s.nees << "\n";
   if (!f) throw std::runtime_error("error writing " + path);
