@@ -50,7 +50,7 @@ void runInProcesses(components::LaunchPlan plan, const LaunchOptions& opt, const
   base.insert(base.end(), {"launch", opt.file});
   base.insert(base.end(), opt.assignments.begin(), opt.assignments.end());
   if (opt.quiet) base.push_back("-q");
-  // The children's names must be final before they start: a child resolves the file again.
+  // Each child resolves the file again with these arguments, so it gets the same plan.
   ctx.participantOptions("mcvio_launch");  // refuses a bad $ROS_DOMAIN_ID here, not in every child
   const auto command = [&base](const components::LaunchPlan::Entry& e) {
     auto argv = base;
