@@ -66,12 +66,23 @@ bool reap(Child& c, bool block = false) {
   return true;
 }
 
-bool waitExit(Child& c, double timeout_s) {
+/// Waits up to timeout_s for the child to exit (with `until_signal`, only until Ctrl-C); true when
+/// it has.
+bool waitExit(Child& c, double timeout_s, bool until_signal = false) {
   const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout_s));
   while (!reap(c)) {
-    if (Clock::now() >= deadline) return false;
+    if (Clock::now() >= deadline || (until_signal && dds::ShutdownSignal::requested())) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
+  return true;
+}
+
+/// For a child that has been sent SIGINT: SIGKILL if it has not exited within timeout_s. True
+/// when it had to be killed.
+bool killUnlessExited(Child& c, double timeout_s) {
+  if (waitExit(c, timeout_s)) return false;
+  ::kill(-c.pid, SIGKILL);
+  reap(c, true);
   return true;
 }
 
@@ -225,14 +236,9 @@ LaunchSupervisor::Result LaunchSupervisor::run() {
   const auto stopNow = [&] {
     for (auto& c : children)
       if (c.running) ::kill(-c.pid, SIGINT);
-    for (auto& c : children) {
-      if (!c.running) continue;
-      if (!waitExit(c, options_.stop_timeout_s)) {
-        say(label(c) + " did not exit " + std::to_string(options_.stop_timeout_s) + " s after SIGINT; killing it");
-        ::kill(-c.pid, SIGKILL);
-        reap(c, true);
-      }
-    }
+    for (auto& c : children)
+      if (c.running && killUnlessExited(c, options_.stop_timeout_s))
+        say(label(c) + " did not exit " + std::to_string(options_.stop_timeout_s) + " s after SIGINT; killed it");
   };
   result.interrupted = dds::ShutdownSignal::requested();
   if (!result.error.empty() || result.interrupted) {
@@ -245,16 +251,10 @@ LaunchSupervisor::Result LaunchSupervisor::run() {
         if (c.running && c.entry->kind == kind) closeFd(c.stdin_w);
       for (auto& c : children) {
         if (!c.running || c.entry->kind != kind) continue;
-        const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout));
-        while (!reap(c) && Clock::now() < deadline && !dds::ShutdownSignal::requested())
-          std::this_thread::sleep_for(std::chrono::milliseconds(20));
-        if (c.running && !dds::ShutdownSignal::requested()) {
+        if (!waitExit(c, timeout, true) && !dds::ShutdownSignal::requested()) {
           say(label(c) + " had not stopped " + std::to_string(timeout) + " s after the data ended; sending SIGINT");
           ::kill(-c.pid, SIGINT);
-          if (!waitExit(c, options_.stop_timeout_s)) {
-            ::kill(-c.pid, SIGKILL);
-            reap(c, true);
-          }
+          killUnlessExited(c, options_.stop_timeout_s);
         }
         if (!c.running && (c.exit_code != 0 || c.signal != 0)) fail(label(c) + " " + describeExit(c.exit_code, c.signal) + " as it stopped");
       }

@@ -25,6 +25,15 @@ std::string offeredQosYaml(const dds::DiscoveredTopic& t) {
   return y;
 }
 
+// `regex`: the options' regex compiled (nullptr when they have none).
+bool selectsTopic(const RecorderOptions& o, const std::regex* regex, const std::string& topic) {
+  if (o.all) return true;
+  for (const auto& name : o.topics) {
+    if (name == topic || "/" + name == topic) return true;
+  }
+  return regex != nullptr && std::regex_search(topic, *regex);
+}
+
 }  // namespace
 
 void RecorderOptions::validate() const {
@@ -55,20 +64,14 @@ Recorder::~Recorder() {
 }
 
 bool RecorderOptions::selects(const std::string& topic) const {
-  if (all) return true;
-  for (const auto& name : topics) {
-    if (name == topic || "/" + name == topic) return true;
-  }
-  return !regex.empty() && std::regex_search(topic, std::regex(regex));
+  if (regex.empty()) return selectsTopic(*this, nullptr, topic);
+  const std::regex compiled(regex);
+  return selectsTopic(*this, &compiled, topic);
 }
 
 bool Recorder::selected(const dds::DiscoveredTopic& t) const {
   if (!t.is_ros || t.publishers == 0) return false;
-  if (options_.all) return true;
-  for (const auto& name : options_.topics) {
-    if (name == t.name || "/" + name == t.name) return true;
-  }
-  return !options_.regex.empty() && std::regex_search(t.name, regex_);
+  return selectsTopic(options_, options_.regex.empty() ? nullptr : &regex_, t.name);
 }
 
 void Recorder::start() {
