@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 
 #include "mcvio/estimator/imu_preintegrator.hpp"
+#include "mcvio/estimator/so3.hpp"
 
 namespace mcvio::estimator {
 
@@ -55,7 +56,8 @@ ConflictIntervalSmoother::Result ConflictIntervalSmoother::finish(const ImuBuffe
                                                                   const Eigen::Vector3d& gravity,
                                                                   const Eigen::Vector3d& p_end,
                                                                   const std::vector<SettledVelocity>& settled,
-                                                                  const ReidentifiedEnd* reidentified) {
+                                                                  const ReidentifiedEnd* reidentified,
+                                                                  const StartCovariance* start) {
   Result res;
   active_ = false;
   if (frames_.empty()) {
@@ -83,6 +85,12 @@ ConflictIntervalSmoother::Result ConflictIntervalSmoother::finish(const ImuBuffe
   jacobians.reserve(frames_.size());
   std::vector<ImuSample> samples;
   std::vector<std::pair<Jacobian, Eigen::Vector3d>> velocity_rows;  // Jv and the velocity error
+  ErrorCovariance P = ErrorCovariance::Zero();
+  if (start != nullptr) {
+    const int at[4] = {0, 3, 9, 12};  // attitude, velocity, gyro bias, accel bias
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b) P.block<3, 3>(at[a], at[b]) = start->block<3, 3>(3 * a, 3 * b);
+  }
   for (const auto& f : frames_) {
     if (!imu.extract(t, f.t, &samples) || samples.size() < 2) {
       std::ostringstream os;
@@ -103,8 +111,12 @@ ConflictIntervalSmoother::Result ConflictIntervalSmoother::finish(const ImuBuffe
     v += gravity * dt + R * pre.deltaV();
     positions.push_back(p);
     jacobians.push_back(Jp);
+    if (start != nullptr) propagateError(R, pre, &P);
     for (const auto& sv : settled)
-      if (sv.t == f.t) velocity_rows.emplace_back(Jv, sv.v - v);
+      if (sv.t == f.t) {
+        velocity_rows.emplace_back(Jv, sv.v - v);
+        if (start != nullptr) accumulateSettledError(Jv, &P);
+      }
     R = f.q.toRotationMatrix();
     t = f.t;
   }
@@ -122,6 +134,7 @@ ConflictIntervalSmoother::Result ConflictIntervalSmoother::finish(const ImuBuffe
   }
   Eigen::Matrix<double, 9, 1> c = Eigen::Matrix<double, 9, 1>::Zero();
   c.head<3>() = lu.solve(rhs);
+  Eigen::Matrix<double, 6, 6> A6_inverse = Eigen::Matrix<double, 6, 6>::Zero();  // with a re-identified end
   double largest = c.head<3>().norm();
   std::ostringstream note;
   if (reidentified != nullptr) {
@@ -152,6 +165,7 @@ ConflictIntervalSmoother::Result ConflictIntervalSmoother::finish(const ImuBuffe
       if (lu6.isInvertible() && c6.allFinite() && largest6 <= options_.max_acceleration_correction) {
         c.setZero();
         c.tail<6>() = c6;
+        A6_inverse = lu6.inverse();
         largest = largest6;
         res.used_reidentified = true;
         note << "; end position from " << reidentified->landmarks << " re-identified landmarks ("
@@ -179,11 +193,74 @@ ConflictIntervalSmoother::Result ConflictIntervalSmoother::finish(const ImuBuffe
   res.acceleration_correction = c.head<3>() + c.segment<3>(3) + c.segment<3>(6);
   res.shift = res.revisions.back().p_WB - p_end;
   res.applied = res.shift.allFinite();
+  if (start != nullptr) {
+    // The corrected end's error is linear in the propagated errors (the end position, the settled
+    // velocities' sum) and in the measurements' own: r = C x + D n_v (+ D_p n_p). A settled
+    // velocity's error is taken as common to all of them (they come from one estimator).
+    Eigen::Matrix<double, 9, 3> S = Eigen::Matrix<double, 9, 3>::Zero();
+    for (const auto& row : velocity_rows) S += row.first.transpose();
+    Eigen::Matrix<double, 3, 24> C = Eigen::Matrix<double, 3, 24>::Zero();
+    Eigen::Matrix3d D, Dp = Eigen::Matrix3d::Zero();
+    const double sv = options_.settled_velocity_sigma;
+    if (!res.used_reidentified) {
+      const Eigen::Matrix3d K = jacobians.back().leftCols<3>() * lu.inverse();
+      C.block<3, 3>(0, 6).setIdentity();
+      C.block<3, 3>(0, 15) = -K;
+      D = K * S.topRows<3>();
+    } else {
+      const double wv = 1.0 / (sv * sv), wp = 1.0 / (reidentified->sigma * reidentified->sigma);
+      const Eigen::Matrix<double, 3, 6> Jend = jacobians.back().rightCols<6>();
+      const Eigen::Matrix<double, 3, 6> K = Jend * A6_inverse;
+      C.block<3, 3>(0, 6) = Eigen::Matrix3d::Identity() - wp * K * Jend.transpose();
+      C.block<3, 6>(0, 18) = -wv * K;
+      D = wv * K * S.bottomRows<6>();
+      Dp = wp * K * Jend.transpose() * reidentified->sigma;
+    }
+    res.shift_covariance = C * P * C.transpose() + sv * sv * D * D.transpose() + Dp * Dp.transpose();
+    res.shift_covariance = 0.5 * (res.shift_covariance + res.shift_covariance.transpose()).eval();
+    res.shift_covariance_valid = res.shift_covariance.allFinite();
+  }
   std::ostringstream os;
   os << "conflict window of " << window_s << " s smoothed: acceleration correction " << largest
-     << " m/s^2, end position moved " << res.shift.norm() << " m" << note.str();
+     << " m/s^2, end position moved " << res.shift.norm() << " m";
+  if (res.shift_covariance_valid) {
+    const Eigen::Vector3d sigma = res.shift_covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+    os << " (sigma " << sigma.x() << " / " << sigma.y() << " / " << sigma.z() << " m)";
+  }
+  os << note.str();
   res.message = os.str();
   return res;
+}
+
+void ConflictIntervalSmoother::propagateError(const Eigen::Matrix3d& R, const ImuPreintegrator& pre,
+                                              ErrorCovariance* P) {
+  // Errors are estimate minus truth. The rotated increments carry the attitude error into the
+  // velocity and position, the bias Jacobians the held biases' error, the preintegration's
+  // covariance the IMU's noise (its attitude at the segment's end, its velocity and position in
+  // the body frame at its start).
+  const double dt = pre.deltaTime();
+  const Eigen::Matrix3d R_end = R * pre.deltaQ().toRotationMatrix();
+  ErrorCovariance F = ErrorCovariance::Identity();
+  F.block<3, 3>(0, 9) = R_end * pre.dR_dbg();
+  F.block<3, 3>(3, 0) = -so3::hat(R * pre.deltaV());
+  F.block<3, 3>(3, 9) = R * pre.dV_dbg();
+  F.block<3, 3>(3, 12) = R * pre.dV_dba();
+  F.block<3, 3>(6, 0) = -so3::hat(R * pre.deltaP());
+  F.block<3, 3>(6, 3) = dt * Eigen::Matrix3d::Identity();
+  F.block<3, 3>(6, 9) = R * pre.dP_dbg();
+  F.block<3, 3>(6, 12) = R * pre.dP_dba();
+  ImuPreintegrator::Matrix15 T = ImuPreintegrator::Matrix15::Identity();
+  T.block<3, 3>(0, 0) = R_end;
+  T.block<3, 3>(3, 3) = R;
+  T.block<3, 3>(6, 6) = R;
+  *P = F * *P * F.transpose();
+  P->topLeftCorner<15, 15>() += T * pre.covariance() * T.transpose();
+}
+
+void ConflictIntervalSmoother::accumulateSettledError(const Eigen::Matrix<double, 3, 9>& Jv, ErrorCovariance* P) {
+  ErrorCovariance A = ErrorCovariance::Identity();
+  A.block<9, 3>(15, 3) = Jv.transpose();
+  *P = A * *P * A.transpose();
 }
 
 }  // namespace mcvio::estimator

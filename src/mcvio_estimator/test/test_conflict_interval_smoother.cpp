@@ -4,11 +4,13 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <random>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "mcvio/estimator/conflict_interval_smoother.hpp"
+#include "mcvio/estimator/so3.hpp"
 
 using namespace mcvio;
 using estimator::ConflictIntervalSmoother;
@@ -311,4 +313,110 @@ TEST(ConflictIntervalSmoother, AWindowLongerThanItsLimitIsGivenUp) {
   EXPECT_TRUE(s.active());
   s.addFrame(t, Eigen::Quaterniond::Identity());
   EXPECT_FALSE(s.active()) << "no IMU is kept for a window that can no longer be smoothed";
+}
+
+namespace {
+
+/// The spread of the corrected end over many rides against the covariance finish() predicts.
+struct RideSpread {
+  Eigen::Vector3d sigma_predicted, sigma_actual;
+  double nees = 0;
+};
+
+/// 300 rides of a 12 s interval, each with its own start errors drawn from the covariance
+/// finish() is given (attitude, velocity, both held biases), IMU noise and bias walk drawn from
+/// the noise model, one error common to the settled velocities and, with `reidentified_sigma`
+/// > 0, an end position measured to that sigma.
+RideSpread spreadOverRides(double reidentified_sigma) {
+  ImuNoiseParams noise;  // EuRoC's densities
+  const double sigma_tilt = 5e-4, sigma_v0 = 5e-3, sigma_bg = 5e-5, sigma_ba = 5e-3;
+  ConflictIntervalSmoother::StartCovariance start = ConflictIntervalSmoother::StartCovariance::Zero();
+  start.diagonal() << Eigen::Vector3d::Constant(sigma_tilt * sigma_tilt), Eigen::Vector3d::Constant(sigma_v0 * sigma_v0),
+      Eigen::Vector3d::Constant(sigma_bg * sigma_bg), Eigen::Vector3d::Constant(sigma_ba * sigma_ba);
+  const ConflictIntervalSmoother::Options o = options();
+  std::mt19937 rng(7);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  const auto draw = [&](double sigma) -> Eigen::Vector3d {
+    return Eigen::Vector3d(normal(rng), normal(rng), normal(rng)) * sigma;
+  };
+  const double dt = toSeconds(kImuPeriod);
+  constexpr int kRides = 300;
+  Eigen::Matrix3d predicted = Eigen::Matrix3d::Zero(), actual = Eigen::Matrix3d::Zero();
+  RideSpread out;
+  for (int ride = 0; ride < kRides; ++ride) {
+    const Eigen::Vector3d tilt0 = draw(sigma_tilt), dv0 = draw(sigma_v0), dbg = draw(sigma_bg), dba = draw(sigma_ba);
+    const Eigen::Vector3d dv_settled = draw(o.settled_velocity_sigma);
+    // The IMU of this ride, and the orientation an estimator integrating its gyro with the held
+    // bias would give at each frame (the truth stays level).
+    ImuBuffer imu;
+    Eigen::Vector3d bg_true(0.002, -0.001, 0.0015), ba_true = kTrueAccelBias;
+    ImuBias held;
+    held.gyro = bg_true + dbg;
+    held.accel = ba_true + dba;
+    Eigen::Quaterniond q_est = estimator::so3::expQuat(tilt0);
+    std::map<Timestamp, Eigen::Quaterniond> orientation;
+    for (Timestamp t = kStart; seconds(t) <= 13.2 + 1e-9; t += kImuPeriod) {
+      ImuSample s;
+      s.t = t;
+      s.gyro = bg_true + draw(noise.gyroscope_noise_density / std::sqrt(dt));
+      s.accel = Motion::accel(seconds(t)) - kGravity + ba_true + draw(noise.accelerometer_noise_density / std::sqrt(dt));
+      EXPECT_EQ(imu.add(s, 0.1), ImuBuffer::AddResult::kAccepted);
+      if ((t - kStart) % kFramePeriod == 0) orientation[t] = q_est;
+      q_est = (q_est * estimator::so3::expQuat((s.gyro - held.gyro) * dt)).normalized();
+      bg_true += draw(noise.gyroscope_random_walk * std::sqrt(dt));
+      ba_true += draw(noise.accelerometer_random_walk * std::sqrt(dt));
+    }
+    ConflictIntervalSmoother s(o);
+    s.begin(kStart, Motion::position(0), orientation.at(kStart), Motion::velocity(0) + dv0, held);
+    Timestamp t = kStart + kFramePeriod;
+    for (; seconds(t) <= 12.0 + 1e-9; t += kFramePeriod) s.addFrame(t, orientation.at(t));
+    s.markExit();
+    for (int i = 0; i < 20; ++i, t += kFramePeriod) s.addFrame(t, orientation.at(t));
+    const Timestamp last = t - kFramePeriod;
+    auto settled = trueVelocities(last, 10);
+    for (auto& v : settled) v.v += dv_settled;
+    ConflictIntervalSmoother::ReidentifiedEnd end;
+    end.p = Motion::position(seconds(last)) + draw(reidentified_sigma);
+    end.sigma = reidentified_sigma;
+    end.landmarks = 30;
+    const auto res = s.finish(imu, noise, kGravity, Motion::position(seconds(last)), settled,
+                              reidentified_sigma > 0 ? &end : nullptr, &start);
+    EXPECT_TRUE(res.applied) << res.message;
+    EXPECT_TRUE(res.shift_covariance_valid) << res.message;
+    EXPECT_EQ(res.used_reidentified, reidentified_sigma > 0) << res.message;
+    if (!res.shift_covariance_valid) return out;
+    const Eigen::Vector3d e = res.revisions.back().p_WB - Motion::position(seconds(last));
+    actual += e * e.transpose() / kRides;
+    predicted += res.shift_covariance / kRides;
+    out.nees += e.dot(res.shift_covariance.inverse() * e) / kRides;
+  }
+  out.sigma_predicted = predicted.diagonal().cwiseSqrt();
+  out.sigma_actual = actual.diagonal().cwiseSqrt();
+  std::printf("corrected end over %d rides%s: sigma predicted %.3f / %.3f / %.3f m, actual %.3f / %.3f / %.3f m, "
+              "NEES %.2f\n",
+              kRides, reidentified_sigma > 0 ? " with a re-identified end" : "", out.sigma_predicted.x(),
+              out.sigma_predicted.y(), out.sigma_predicted.z(), out.sigma_actual.x(), out.sigma_actual.y(),
+              out.sigma_actual.z(), out.nees);
+  return out;
+}
+
+}  // namespace
+
+TEST(ConflictIntervalSmoother, TheCorrectedEndsCovarianceMatchesItsErrorOverManyRides) {
+  for (const double reidentified_sigma : {0.0, 0.05}) {
+    const RideSpread r = spreadOverRides(reidentified_sigma);
+    // The errors are not negligible: a covariance of zero would fail below.
+    EXPECT_GT(r.sigma_actual.minCoeff(), 0.02);
+    // 300 draws know a sigma to about 4 %.
+    for (int i = 0; i < 3; ++i)
+      EXPECT_NEAR(r.sigma_predicted[i] / r.sigma_actual[i], 1.0, 0.15) << "axis " << i << ", " << reidentified_sigma;
+    EXPECT_NEAR(r.nees, 3.0, 0.5) << reidentified_sigma;
+  }
+  // Without the start's covariance there is none.
+  ConflictIntervalSmoother s(options());
+  const Timestamp last = fillWindow(&s, 12.0);
+  const auto res = s.finish(imuFor(seconds(last) + 0.1), steadyBiasImu(), kGravity, Motion::position(seconds(last)),
+                            trueVelocities(last, 10));
+  EXPECT_TRUE(res.applied);
+  EXPECT_FALSE(res.shift_covariance_valid);
 }

@@ -13,6 +13,8 @@
 
 namespace mcvio::estimator {
 
+class ImuPreintegrator;
+
 /// The conflict window of the triple-window optimisation (dissertation ch. 6). Inside an
 /// IMU-dominated interval the position comes from the IMU alone with the biases held at their
 /// pre-conflict estimate, so an error of that estimate, or of the attitude that removes gravity,
@@ -64,7 +66,17 @@ class ConflictIntervalSmoother {
     /// the body's revision at that frame: S is measured from the body.
     std::vector<EstimatorOutput::PoseRevision> secondary_revisions;
     bool used_reidentified = false;  ///< the re-identified end position was fitted
+    /// Covariance of the corrected end position's error [m^2], valid when finish() was given
+    /// the start's covariance: what the start's attitude, velocity and bias errors, the IMU's
+    /// noise over the window and the settled velocities' error leave after the fit (first
+    /// order). The live window's covariance knows none of it: the correction is not a solve.
+    Eigen::Matrix3d shift_covariance = Eigen::Matrix3d::Zero();
+    bool shift_covariance_valid = false;
   };
+
+  /// The estimator's marginal covariance at the state the window opens at, over [attitude error
+  /// in the world frame, velocity, gyroscope bias, accelerometer bias] (body-frame biases).
+  using StartCovariance = Eigen::Matrix<double, 12, 12>;
 
   explicit ConflictIntervalSmoother(const Options& options) : options_(options) {}
 
@@ -109,11 +121,12 @@ class ConflictIntervalSmoother {
   /// for an interval of many seconds); `p_end` is its position at the last added frame. With
   /// `reidentified` the end position is fitted too, unless it lies further from the velocity-only
   /// fit than a held bias error of three held_acceleration_sigma explains (then the
-  /// re-identified landmarks moved: an elevator's cabin seen again after the ride). Closes the
-  /// window whatever the outcome.
+  /// re-identified landmarks moved: an elevator's cabin seen again after the ride). With `start`
+  /// (the covariance at the window's start) the result also says how far the corrected end may
+  /// be off. Closes the window whatever the outcome.
   Result finish(const ImuBuffer& imu, const ImuNoiseParams& noise, const Eigen::Vector3d& gravity,
                 const Eigen::Vector3d& p_end, const std::vector<SettledVelocity>& settled,
-                const ReidentifiedEnd* reidentified = nullptr);
+                const ReidentifiedEnd* reidentified = nullptr, const StartCovariance* start = nullptr);
 
  private:
   struct Node {
@@ -124,6 +137,13 @@ class ConflictIntervalSmoother {
     Eigen::Vector3d p_WS = Eigen::Vector3d::Zero();
     Eigen::Quaterniond q_WS = Eigen::Quaterniond::Identity();
   };
+  /// First-order error of the inertial propagation, carried frame by frame as a covariance over
+  /// [attitude, velocity, position, gyro bias, accel bias (as in ImuPreintegrator), and the sum
+  /// over the settled frames of Jv^T times the velocity error (9)]: the fit is linear in that sum.
+  using ErrorCovariance = Eigen::Matrix<double, 24, 24>;
+  static void propagateError(const Eigen::Matrix3d& R, const ImuPreintegrator& pre, ErrorCovariance* P);
+  static void accumulateSettledError(const Eigen::Matrix<double, 3, 9>& Jv, ErrorCovariance* P);
+
   Options options_;
   bool active_ = false, exited_ = false;
   Timestamp t0_ = 0;
