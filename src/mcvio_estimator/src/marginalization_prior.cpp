@@ -1,6 +1,10 @@
 #include "mcvio/estimator/marginalization_prior.hpp"
 
+#include <algorithm>
+
+#include <Eigen/Cholesky>
 #include <Eigen/Geometry>
+#include <Eigen/SVD>
 
 #include "mcvio/estimator/pose_manifold.hpp"
 
@@ -27,6 +31,40 @@ bool MarginalizationPrior::involves(const double* data) const {
   for (const auto& b : blocks)
     if (b.data == data) return true;
   return false;
+}
+
+void MarginalizationPrior::setCommonTranslationCovariance(const Eigen::Matrix3d& covariance) {
+  // The rows' part along U = J G (G: a common translation) is the prior's information about it:
+  // with U = W S V^T, J - W W^T J keeps every row orthogonal to it (an infinite uncertainty added
+  // along the translation, Woodbury's limit). Three rows then anchor the last pose's position.
+  const int n = tangentDimension();
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, 3);
+  int off = 0, anchor = -1;
+  for (const auto& b : blocks) {
+    if (b.kind == BlockKind::kPose) {
+      G.block<3, 3>(off, 0).setIdentity();
+      anchor = off;
+    }
+    off += b.tangent_size;
+  }
+  const Eigen::LLT<Eigen::Matrix3d> llt(0.5 * (covariance + covariance.transpose()));
+  if (anchor < 0 || llt.info() != Eigen::Success || !covariance.allFinite()) return;
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(J * G, Eigen::ComputeThinU);
+  const Eigen::VectorXd sv = svd.singularValues();
+  int k = 0;
+  while (k < sv.size() && sv[k] > 1e-12 * std::max(1.0, sv[0])) ++k;
+  if (k > 0) {
+    const Eigen::MatrixXd W = svd.matrixU().leftCols(k);
+    J -= W * (W.transpose() * J);
+    r -= W * (W.transpose() * r);
+  }
+  const Eigen::Matrix3d L_inv = llt.matrixL().solve(Eigen::Matrix3d::Identity());
+  const Eigen::Index rows = J.rows();
+  J.conservativeResize(rows + 3, Eigen::NoChange);
+  J.bottomRows(3).setZero();
+  J.block(rows, anchor, 3, 3) = L_inv;
+  r.conservativeResize(rows + 3);
+  r.tail(3).setZero();
 }
 
 Eigen::VectorXd MarginalizationPrior::evaluate() const {

@@ -515,10 +515,16 @@ Marginalizer::SplitPrior Marginalizer::marginalizeImpl(const std::set<const doub
 }
 
 bool Marginalizer::marginalCovariance(const double* block, Eigen::MatrixXd* covariance) const {
-  const int block_id = blockId(block);
+  return marginalCovariance(std::vector<const double*>{block}, covariance);
+}
+
+bool Marginalizer::marginalCovariance(const std::vector<const double*>& blocks, Eigen::MatrixXd* covariance) const {
+  std::vector<int> wanted;
+  for (const double* b : blocks) wanted.push_back(blockId(b));
   std::vector<int> order;
   std::vector<char> dropped(blocks_.size(), 0), seen(blocks_.size(), 0);
-  int target = -1, dim = 0;
+  std::vector<int> start(blocks_.size(), -1);
+  int dim = 0;
   for (const int id : block_ids_) {
     const auto i = static_cast<std::size_t>(id);
     if (seen[i] != 0) continue;
@@ -527,21 +533,35 @@ bool Marginalizer::marginalCovariance(const double* block, Eigen::MatrixXd* cova
       dropped[i] = 1;
       continue;
     }
-    if (id == block_id) target = dim;
+    start[i] = dim;
     order.push_back(id);
     dim += blocks_[i].tangent_size;
   }
-  if (target < 0) return false;
+  int k = 0;
+  for (const int id : wanted) {
+    if (id < 0 || start[static_cast<std::size_t>(id)] < 0) return false;
+    k += blocks_[static_cast<std::size_t>(id)].tangent_size;
+  }
   Eigen::MatrixXd H;
   Eigen::VectorXd g;
   reduce(order, dropped, &H, &g);
-  const int k = blocks_[static_cast<std::size_t>(block_id)].tangent_size;
   Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (H + H.transpose()));
   if (llt.info() != Eigen::Success) return false;
   Eigen::MatrixXd E = Eigen::MatrixXd::Zero(H.rows(), k);
-  E.block(target, 0, k, k).setIdentity();
+  int col = 0;
+  for (const int id : wanted) {
+    const int size = blocks_[static_cast<std::size_t>(id)].tangent_size;
+    E.block(start[static_cast<std::size_t>(id)], col, size, size).setIdentity();
+    col += size;
+  }
   const Eigen::MatrixXd X = llt.solve(E);
-  *covariance = X.block(target, 0, k, k);
+  covariance->resize(k, k);
+  col = 0;
+  for (const int id : wanted) {
+    const int size = blocks_[static_cast<std::size_t>(id)].tangent_size;
+    covariance->middleRows(col, size) = X.middleRows(start[static_cast<std::size_t>(id)], size);
+    col += size;
+  }
   *covariance = 0.5 * (*covariance + covariance->transpose());
   return covariance->allFinite();
 }

@@ -99,7 +99,8 @@ Timestamp MotionConflictMonitor::oldestTimeNeeded() const {
 }
 
 ConflictIntervalSmoother::Result MotionConflictMonitor::smoothInterval(
-    const ImuBuffer& imu, const ConflictIntervalSmoother::ReidentifiedEnd* reidentified) {
+    const ImuBuffer& imu, const ConflictIntervalSmoother::ReidentifiedEnd* reidentified,
+    const ConflictIntervalSmoother::StartCovariance* start) {
   if (history_.empty()) {
     smoother_.cancel();
     return {};
@@ -108,7 +109,7 @@ ConflictIntervalSmoother::Result MotionConflictMonitor::smoothInterval(
   std::vector<ConflictIntervalSmoother::SettledVelocity> settled;
   const std::size_t n = std::min(history_.size(), static_cast<std::size_t>(std::max(1, options_.smoothing_settle_frames / 2)));
   for (std::size_t i = history_.size() - n; i < history_.size(); ++i) settled.push_back({history_[i].t, history_[i].state.v});
-  auto res = smoother_.finish(imu, imu_noise_, gravity_, history_.back().state.p, settled, reidentified);
+  auto res = smoother_.finish(imu, imu_noise_, gravity_, history_.back().state.p, settled, reidentified, start);
   if (res.applied)
     for (auto& e : history_) e.state.p += res.shift;
   return res;

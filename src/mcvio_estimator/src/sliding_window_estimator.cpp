@@ -833,14 +833,33 @@ void SlidingWindowEstimator::computeCovariance(EstimatorOutput* out) {
     whole = std::make_unique<MarginalizationFactor>(whole_prior_);
     m.addResidualBlock(whole.get(), nullptr, whole->parameterBlocks());
   }
+  Frame& f = newest();
   Eigen::MatrixXd cov;
   try {
-    out->covariance_valid = m.marginalCovariance(newest().pose.data(), &cov);
+    if (f.has_speed_bias)
+      out->covariance_valid = m.marginalCovariance({f.pose.data(), f.sb.data()}, &cov);
+    else
+      out->covariance_valid = m.marginalCovariance(f.pose.data(), &cov);
   } catch (const std::exception& e) {
     spdlog::warn("{}covariance failed: {}", kLog, e.what());
     out->covariance_valid = false;
   }
-  if (out->covariance_valid) out->pose_covariance = cov;
+  if (!out->covariance_valid) return;
+  out->pose_covariance = cov.topLeftCorner<6, 6>();
+  if (!f.has_speed_bias) return;
+  // The attitude in the world: the pose's body-frame perturbation turned by R_WB.
+  StateCovariance T = StateCovariance::Identity();
+  T.block<3, 3>(3, 3) = Eigen::Map<const Eigen::Quaterniond>(f.pose.data() + 3).toRotationMatrix();
+  state_covariances_.emplace_back(f.t, T * cov * T.transpose());
+  const Timestamp oldest = monitor_->oldestTimeNeeded();
+  while (state_covariances_.size() > 1 && state_covariances_[1].first <= oldest) state_covariances_.pop_front();
+}
+
+const SlidingWindowEstimator::StateCovariance* SlidingWindowEstimator::stateCovarianceAt(Timestamp t) const {
+  const StateCovariance* found = nullptr;
+  for (const auto& [ti, c] : state_covariances_)
+    if (ti <= t) found = &c;
+  return found;
 }
 
 void SlidingWindowEstimator::marginalizeWith(const std::vector<const ResidualRecord*>& records,
@@ -1043,6 +1062,7 @@ void SlidingWindowEstimator::reset(const std::string& reason) {
   clearLandmarks();
   prior_.reset();
   whole_prior_.reset();
+  state_covariances_.clear();
   initialized_ = false;
   monitor_->reset();
   map_memory_.clear();
@@ -1079,14 +1099,22 @@ void SlidingWindowEstimator::applyConflictDecision(const MotionConflictMonitor::
       }
     // The rewound state is an estimate propagated over dt: its position spreads with the velocity.
     const double dt = toSeconds(cur.t - decision.rewind_t);
-    restartFrom(cur, decision.rewind_state, restartSigmas(0.01 + c.velocity_sigma_mps * dt, c.attitude_sigma_rad));
+    const double sigma_p = 0.01 + c.velocity_sigma_mps * dt;
+    const StateCovariance* then = stateCovarianceAt(decision.rewind_t);
+    const Eigen::Matrix3d position =
+        (then != nullptr ? Eigen::Matrix3d(then->topLeftCorner<3, 3>()) : Eigen::Matrix3d::Zero()) + sigma_p * sigma_p * Eigen::Matrix3d::Identity();
+    restartFrom(cur, decision.rewind_state, restartSigmas(sigma_p, c.attitude_sigma_rad), &position);
     spdlog::info("{}motion conflict at t={} ns: IMU-dominated from the state {:.2f} s back, biases held", kLog, cur.t,
                  dt);
   }
   if (decision.restart_on_exit) {
     // Roll and pitch drifted with the gyro over the interval; gravity tells them again, as at a
     // moving start. Position and yaw continue (unobservable), velocity is vision's.
-    restartFrom(cur, decision.exit_state, restartSigmas(0.01, options_.init_roll_pitch_sigma_moving));
+    // The position carried through the interval is known as the IMU-only window knew it.
+    const Eigen::Matrix3d position = (last_output_.covariance_valid ? Eigen::Matrix3d(last_output_.pose_covariance.topLeftCorner<3, 3>())
+                                                                     : Eigen::Matrix3d::Zero()) +
+                                     1e-4 * Eigen::Matrix3d::Identity();
+    restartFrom(cur, decision.exit_state, restartSigmas(0.01, options_.init_roll_pitch_sigma_moving), &position);
     const Eigen::Vector3d& v = decision.exit_state.v;
     spdlog::info(
         "{}motion conflict over at t={} ns: window restarted at vision's velocity ({:.2f}, {:.2f}, {:.2f}) m/s, "
@@ -1115,7 +1143,8 @@ void SlidingWindowEstimator::applyConflictDecision(const MotionConflictMonitor::
 }
 
 void SlidingWindowEstimator::restartFrom(Frame& cur, const MotionConflictMonitor::State& state,
-                                         const Eigen::Matrix<double, 15, 1>& sigmas) {
+                                         const Eigen::Matrix<double, 15, 1>& sigmas,
+                                         const Eigen::Matrix3d* position_covariance) {
   Eigen::Map<Eigen::Vector3d>(cur.pose.data()) = state.p;
   Eigen::Map<Eigen::Quaterniond>(cur.pose.data() + 3) = state.q.normalized();
   Eigen::Map<Eigen::Vector3d>(cur.sb.data()) = state.v;
@@ -1135,6 +1164,11 @@ void SlidingWindowEstimator::restartFrom(Frame& cur, const MotionConflictMonitor
   frames_.push_back(std::move(keep));
   clearLandmarks();
   setStatePrior(cur, sigmas);
+  if (position_covariance != nullptr) {
+    whole_prior_ = std::make_shared<MarginalizationPrior>(*prior_);
+    whole_prior_->r.setZero();
+    whole_prior_->setCommonTranslationCovariance(*position_covariance);
+  }
 }
 
 void SlidingWindowEstimator::rememberLandmark(std::uint64_t track_id, Timestamp t) {
@@ -1193,7 +1227,10 @@ void SlidingWindowEstimator::smoothConflictWindow(EstimatorOutput* out) {
   ConflictIntervalSmoother::ReidentifiedEnd end;
   const bool reidentified = reidentifiedEnd(out->p_WB, &end);
   const Timestamp exited = monitor_->smoothingExitTime();
-  auto res = monitor_->smoothInterval(imu_, reidentified ? &end : nullptr);
+  const StateCovariance* at_start = stateCovarianceAt(monitor_->smoothingStartTime());
+  ConflictIntervalSmoother::StartCovariance start;
+  if (at_start != nullptr) start = at_start->bottomRightCorner<12, 12>();
+  auto res = monitor_->smoothInterval(imu_, reidentified ? &end : nullptr, at_start != nullptr ? &start : nullptr);
   if (!res.applied) {
     spdlog::warn("{}{}", kLog, res.message);
     return;
@@ -1207,6 +1244,16 @@ void SlidingWindowEstimator::smoothConflictWindow(EstimatorOutput* out) {
     if (prior != nullptr)
       for (auto& b : prior->blocks)
         if (b.kind == BlockKind::kPose) Eigen::Map<Eigen::Vector3d>(b.x_lin.data()) += res.shift;
+  // The correction is not a solve: where the window now is, is known as well as the start and the
+  // correction's own error say. The covariance's information takes that (never the solver's prior,
+  // so no estimate changes); the window's shape stays as the solves left it.
+  if (res.shift_covariance_valid && at_start != nullptr && prior_ != nullptr) {
+    if (whole_prior_ == nullptr) {
+      whole_prior_ = std::make_shared<MarginalizationPrior>(*prior_);
+      whole_prior_->r.setZero();
+    }
+    whole_prior_->setCommonTranslationCovariance(at_start->topLeftCorner<3, 3>() + res.shift_covariance);
+  }
   out->p_WB += res.shift;
   out->revised_poses = std::move(res.revisions);
   out->revised_secondary = std::move(res.secondary_revisions);

@@ -221,6 +221,20 @@ TEST(Marginalizer, MarginalCovarianceMatchesFullInverse) {
   hessian(full.get(), order, &H, &g);
   const Eigen::MatrixXd ref = H.inverse().topLeftCorner(6, 6);
   EXPECT_LT((cov - ref).norm(), 1e-6 * ref.norm());
+
+  // Jointly with frame 2's speed-bias (columns 36-44 of the order above), in the order asked.
+  Eigen::MatrixXd joint;
+  ASSERT_TRUE(marg.marginalCovariance({sp.sbs[2].data(), sp.poses[2].data()}, &joint));
+  ASSERT_EQ(joint.rows(), 15);
+  std::vector<int> idx;
+  for (int i = 36; i < 45; ++i) idx.push_back(i);
+  for (int i = 0; i < 6; ++i) idx.push_back(i);
+  const Eigen::MatrixXd Hinv = H.inverse();
+  Eigen::MatrixXd joint_ref(15, 15);
+  for (int a = 0; a < 15; ++a)
+    for (int b = 0; b < 15; ++b) joint_ref(a, b) = Hinv(idx[a], idx[b]);
+  EXPECT_LT((joint - joint_ref).norm(), 1e-6 * joint_ref.norm());
+  EXPECT_FALSE(marg.marginalCovariance({sp.lms[0].data()}, &joint));  // landmarks are eliminated
 }
 
 // Two marginalisations in a row (frame 0, then frame 1, each with the landmarks anchored in it)
@@ -323,6 +337,52 @@ TEST(Marginalizer, RejectedResidualLeavesNoTrace) {
   ASSERT_TRUE(with_rejected.marginalCovariance(sp.poses[2].data(), &cov_a));
   ASSERT_TRUE(clean.marginalCovariance(sp.poses[2].data(), &cov_b));
   EXPECT_EQ(cov_a, cov_b);
+}
+
+// A prior over two poses and a speed-bias block; the window's common translation gets a
+// covariance of its own.
+MarginalizationPrior translationTestPrior(int rows, unsigned seed) {
+  MarginalizationPrior prior;
+  prior.blocks.push_back({nullptr, BlockKind::kPose, 7, 6, std::vector<double>(7, 0.0)});
+  prior.blocks.push_back({nullptr, BlockKind::kEuclidean, 9, 9, std::vector<double>(9, 0.0)});
+  prior.blocks.push_back({nullptr, BlockKind::kPose, 7, 6, std::vector<double>(7, 0.0)});
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  prior.J = Eigen::MatrixXd::NullaryExpr(rows, 21, [&]() { return normal(rng); });
+  prior.r = Eigen::VectorXd::NullaryExpr(rows, [&]() { return normal(rng); });
+  return prior;
+}
+
+TEST(MarginalizationPrior, TheCommonTranslationsCovarianceIsReplacedAndTheShapeKept) {
+  // Coordinates a common translation leaves unchanged: the first pose's position relative to the
+  // last (the anchor, tangent columns 15-17), both attitudes, the speed-bias block.
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(18, 21);
+  A.block<3, 3>(0, 0).setIdentity();
+  A.block<3, 3>(0, 15) = -Eigen::Matrix3d::Identity();
+  A.block<3, 3>(3, 3).setIdentity();
+  A.block<9, 9>(6, 6).setIdentity();
+  A.block<3, 3>(15, 18).setIdentity();
+  Eigen::Matrix3d Q;
+  Q << 0.09, 0.01, 0.0, 0.01, 0.04, 0.0, 0.0, 0.0, 0.01;
+  for (const unsigned seed : {3u, 4u}) {
+    MarginalizationPrior prior = translationTestPrior(21, seed);
+    const Eigen::MatrixXd L = prior.information();
+    prior.setCommonTranslationCovariance(Q);
+    ASSERT_EQ(prior.J.rows(), 24);
+    const Eigen::MatrixXd cov_after = prior.information().inverse();
+    // Where the window is: exactly Q at the anchor, and independent of its shape.
+    EXPECT_LT((cov_after.block<3, 3>(15, 15) - Q).norm(), 1e-9) << seed;
+    EXPECT_LT((A * cov_after.middleCols(15, 3)).norm(), 1e-9) << seed;
+    // Its shape: the marginal covariance of the invariant coordinates, before and after.
+    const Eigen::MatrixXd before = A * L.inverse() * A.transpose();
+    const Eigen::MatrixXd after = A * cov_after * A.transpose();
+    EXPECT_LT((after - before).norm(), 1e-8 * before.norm()) << seed;
+  }
+  // A bad covariance leaves the prior alone.
+  MarginalizationPrior prior = translationTestPrior(21, 5);
+  const Eigen::MatrixXd J_before = prior.J;
+  prior.setCommonTranslationCovariance(-Q);
+  EXPECT_EQ(prior.J, J_before);
 }
 
 }  // namespace

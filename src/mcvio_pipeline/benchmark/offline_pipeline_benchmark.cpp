@@ -1,14 +1,14 @@
 // Speed, memory and accuracy of `mcvio run` (runOffline) on 60 s clean sequences: the rendered
 // office (`none`), semi-real V1_01 (rendered along the real ground truth with the real IMU) and
 // the real standing V1_01 excerpt; and on a 30 s rendered elevator (a 12 m ride from 10 to 22 s,
-// MC-VIO `auto`), whose per-frame output (what /mcvio/odometry published, before the conflict
+// MC-VIO `auto`; more seeds and the vehicle with --ride-seeds / --ride-scenarios), whose per-frame output (what /mcvio/odometry published, before the conflict
 // window revised the ride) is measured too: its ATE and whether its covariance covers its error
 // during the ride. Renders the sequences once into a folder and reuses them.
 // Each render and each run happens in a child process, so the peak memory (getrusage) is the
 // run's own. Prints one Markdown table.
 //
 //   mcvio_pipeline_benchmark [--data DIR] [--seconds S] [--sequential] [--only NAME]
-//                            [--config FILE | --defaults]
+//                            [--config FILE | --defaults] [--ride-seeds LIST] [--ride-scenarios LIST]
 // The run configuration is share/mcvio_pipeline/config/vio_pipeline.yaml unless --config names
 // another or --defaults asks for the built-in defaults.
 #include <sys/wait.h>
@@ -164,6 +164,15 @@ int main(int argc, char** argv) {
   std::string data = "/tmp/mcvio_pipeline_benchmark", only, config = MCVIO_PIPELINE_CONFIG;
   double seconds = 60.0;
   bool pipelined = true;
+  std::vector<int> ride_seeds{1};
+  std::vector<std::string> ride_scenarios{"elevator"};
+  const auto split = [](const std::string& list) {
+    std::vector<std::string> items;
+    std::stringstream in(list);
+    for (std::string item; std::getline(in, item, ',');)
+      if (!item.empty()) items.push_back(item);
+    return items;
+  };
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--data" && i + 1 < argc) data = argv[++i];
@@ -172,8 +181,28 @@ int main(int argc, char** argv) {
     else if (a == "--config" && i + 1 < argc) config = argv[++i];
     else if (a == "--defaults") config = "defaults";
     else if (a == "--sequential") pipelined = false;
+    else if (a == "--ride-seeds" && i + 1 < argc) {
+      ride_seeds.clear();
+      for (const auto& item : split(argv[++i])) {
+        const int seed = std::atoi(item.c_str());
+        if (seed <= 0) {
+          std::cerr << "--ride-seeds: '" << item << "' is not a positive seed\n";
+          return 2;
+        }
+        ride_seeds.push_back(seed);
+      }
+    } else if (a == "--ride-scenarios" && i + 1 < argc) {
+      ride_scenarios = split(argv[++i]);
+      for (const auto& kind : ride_scenarios)
+        if (kind != "elevator" && kind != "vehicle") {
+          std::cerr << "--ride-scenarios: '" << kind << "' is not elevator or vehicle\n";
+          return 2;
+        }
+    }
     else {
-      std::cerr << "usage: " << argv[0] << " [--data DIR] [--seconds S] [--sequential] [--only NAME] [--config FILE | --defaults]\n";
+      std::cerr << "usage: " << argv[0]
+                << " [--data DIR] [--seconds S] [--sequential] [--only NAME] [--config FILE | --defaults]"
+                   " [--ride-seeds 1,4,5] [--ride-scenarios elevator,vehicle]\n";
       return 2;
     }
   }
@@ -199,25 +228,28 @@ int main(int argc, char** argv) {
     };
     sequences.push_back(s);
   }
-  {
-    Sequence s;
-    s.name = "rendered_elevator_30s";
-    s.dataset_dir = data + "/" + s.name;
-    s.mode = "auto";
-    s.conflict_from_s = 10;
-    s.conflict_to_s = 22;
-    s.description = "elevator seed 1 duration 30 onset 10 ride 12 s png level " +
-                    std::to_string(pipeline::sequences::renderedNone(30, 1).png_compression);
-    s.render = [dir = s.dataset_dir] {
-      auto o = pipeline::sequences::renderedNone(30, 1);
-      o.scenario.kind = sim::ScenarioKind::kElevator;
-      o.scenario.onset_s = 10;
-      o.scenario.duration_s = 12;
-      o.output_dir = dir;
-      sim::Simulator(o).writeDataset();
-    };
-    sequences.push_back(s);
-  }
+  // The rides: a 30 s rendered elevator (and vehicle, with --ride-scenarios) per seed, MC-VIO auto.
+  for (const std::string& kind : ride_scenarios)
+    for (const int seed : ride_seeds) {
+      Sequence s;
+      s.name = "rendered_" + kind + "_30s" + (seed == 1 ? std::string() : "_seed" + std::to_string(seed));
+      s.dataset_dir = data + "/" + s.name;
+      s.mode = "auto";
+      s.conflict_from_s = 10;
+      s.conflict_to_s = 22;
+      s.description = kind + " seed " + std::to_string(seed) + " duration 30 onset 10 ride 12 s png level " +
+                      std::to_string(pipeline::sequences::renderedNone(30, seed).png_compression);
+      const sim::ScenarioKind scenario = kind == "vehicle" ? sim::ScenarioKind::kVehicle : sim::ScenarioKind::kElevator;
+      s.render = [dir = s.dataset_dir, seed, scenario] {
+        auto o = pipeline::sequences::renderedNone(30, seed);
+        o.scenario.kind = scenario;
+        o.scenario.onset_s = 10;
+        o.scenario.duration_s = 12;
+        o.output_dir = dir;
+        sim::Simulator(o).writeDataset();
+      };
+      sequences.push_back(s);
+    }
   const auto excerpt = pipeline::sequences::realExcerptDir();
   if (!excerpt.empty()) {
     Sequence s;
@@ -242,7 +274,10 @@ int main(int argc, char** argv) {
   const std::string load_before = loadAverage();
   std::vector<std::pair<std::string, nlohmann::json>> rows;
   for (const auto& s : sequences) {
-    if (!only.empty() && s.name != only) continue;
+    if (!only.empty()) {
+      const auto names = split(only);  // a comma-separated list
+      if (std::find(names.begin(), names.end(), s.name) == names.end()) continue;
+    }
     ensureRendered(s);
     const std::string out = data + "/run_" + s.name + (pipelined ? "" : "_sequential") +
                             (config.empty() ? "" : "_" + fs::path(config).stem().string());

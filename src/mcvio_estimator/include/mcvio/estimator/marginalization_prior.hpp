@@ -36,6 +36,12 @@ struct MarginalizationPrior {
   Eigen::VectorXd evaluate() const;
   /// Information matrix J^T J over the blocks (tangent order of `blocks`).
   Eigen::MatrixXd information() const { return J.transpose() * J; }
+  /// Replaces what the prior knows about the common translation of its pose blocks (where the
+  /// window is, as against its shape) by `covariance` [m^2], at the last pose block's position:
+  /// after a correction that moved the whole window, whose own error is now all that is known of
+  /// where it is. What the prior knows of everything a common translation leaves unchanged (the
+  /// positions relative to each other, attitudes, velocities, biases) stays exactly as it was.
+  void setCommonTranslationCovariance(const Eigen::Matrix3d& covariance);
 };
 
 /// Ceres factor for a MarginalizationPrior (one residual block over all its blocks).

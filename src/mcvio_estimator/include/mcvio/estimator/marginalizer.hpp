@@ -54,6 +54,8 @@ class Marginalizer {
   /// Marginal covariance (tangent space) of `block` given all added residuals, with every other
   /// block marginalised. False if the information matrix is not positive definite.
   bool marginalCovariance(const double* block, Eigen::MatrixXd* covariance) const;
+  /// Joint marginal covariance of `blocks`, in their order (tangent spaces stacked).
+  bool marginalCovariance(const std::vector<const double*>& blocks, Eigen::MatrixXd* covariance) const;
 
   /// Information (Hessian) of all non-landmark blocks with the landmarks in `drop` eliminated, in
   /// the given block order (tangent dims). Exposed for tests.

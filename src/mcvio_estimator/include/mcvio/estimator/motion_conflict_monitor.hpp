@@ -112,9 +112,11 @@ class MotionConflictMonitor {
   /// When the IMU-dominated interval of that window ended.
   Timestamp smoothingExitTime() const { return smoother_.exitTime(); }
   /// Smooths it against the last committed state (and the end position vision gives from
-  /// re-identified landmarks, if any) and moves the stored states by the shift.
+  /// re-identified landmarks, if any) and moves the stored states by the shift; with the
+  /// covariance at the window's start, the result also has the shift's.
   ConflictIntervalSmoother::Result smoothInterval(const ImuBuffer& imu,
-                                                  const ConflictIntervalSmoother::ReidentifiedEnd* reidentified = nullptr);
+                                                  const ConflictIntervalSmoother::ReidentifiedEnd* reidentified = nullptr,
+                                                  const ConflictIntervalSmoother::StartCovariance* start = nullptr);
 
  private:
   struct Entry {

@@ -162,7 +162,10 @@ class SlidingWindowEstimator {
   /// Restarts the window from a single frame with the given state and prior sigmas (position,
   /// world attitude, velocity, gyro and accel biases): the rewind at the start of an
   /// IMU-dominated interval and the restart at its end.
-  void restartFrom(Frame& cur, const MotionConflictMonitor::State& state, const Eigen::Matrix<double, 15, 1>& sigmas);
+  /// `position_covariance`, if given, is where the covariance (whole_prior_) puts the position
+  /// instead: the solver's anchor is a tuning sigma, the covariance keeps what was known.
+  void restartFrom(Frame& cur, const MotionConflictMonitor::State& state, const Eigen::Matrix<double, 15, 1>& sigmas,
+                   const Eigen::Matrix3d* position_covariance = nullptr);
   void setStatePrior(Frame& frame, const Eigen::Matrix<double, 15, 1>& sigmas);
   void applyConflictDecision(const MotionConflictMonitor::Decision& decision, Frame& cur);
   /// The conflict window after an IMU-dominated interval: re-estimates it and moves the window.
@@ -217,6 +220,13 @@ class SlidingWindowEstimator {
   /// prior_ keeps the strong directions: the covariance uses it in place of prior_, the solver
   /// never sees it. Same blocks as prior_, or null (then prior_ is the whole information).
   std::shared_ptr<MarginalizationPrior> whole_prior_;
+  /// The newest frame's covariance over [position, attitude in the world, velocity, gyro bias,
+  /// accel bias], per frame, back to the monitor's oldest time needed: where a conflict window
+  /// starts, the smoother and the covariance after a restart need it.
+  using StateCovariance = Eigen::Matrix<double, 15, 15>;
+  std::deque<std::pair<Timestamp, StateCovariance>> state_covariances_;
+  /// The latest of state_covariances_ at or before t; null if none.
+  const StateCovariance* stateCovarianceAt(Timestamp t) const;
   std::vector<ResidualRecord> records_;  ///< residuals of the last solve
   /// Cost functions of records_ made for one solve, and priors made after it (visual ones live in
   /// observation_costs_, IMU ones in their frame).
