@@ -5,12 +5,23 @@ set -uo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh || { echo "0 passed, 1 failed (set-up or build failed)"; exit 1; }
 
-# Sequential packages: the DDS tests of different packages would otherwise compete for 2 cores.
+# The DDS-free libraries (src/) run their tests two at a time, one per core: each is a
+# single-threaded process of its own with its own temporary files, and most of the suite's time is
+# their offline runs. The DDS packages run one test at a time, package after package: discovery
+# and the components' queues would otherwise compete for 2 cores.
 # colcon test exits non-zero only when a package's test step itself broke (its tests then have
 # no results and would be missing from the counts below, not failed): that fails the run.
-colcon test --metas colcon.meta --executor sequential --ctest-args --output-on-failure \
-  --event-handlers console_cohesion+ summary+
+jobs=$(nproc)
+libraries=$(colcon list --names-only --base-paths src | tr '\n' ' ')
+# shellcheck disable=SC2086  # one package name per word
+colcon test --metas colcon.meta --executor sequential --packages-select $libraries \
+  --ctest-args --output-on-failure -j"${jobs}" --event-handlers console_cohesion+ summary+
+libraries_status=$?
+# shellcheck disable=SC2086
+colcon test --metas colcon.meta --executor sequential --packages-skip $libraries \
+  --ctest-args --output-on-failure --event-handlers console_cohesion+ summary+
 test_status=$?
+[ "$libraries_status" -ne 0 ] && test_status=$libraries_status
 result=$(colcon test-result --test-result-base build --all 2>&1)
 status=$?
 echo "$result" | grep -vE '^build/.*: [0-9]+ tests, 0 errors, 0 failures' | tail -n 40

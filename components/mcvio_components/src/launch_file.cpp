@@ -302,6 +302,13 @@ LaunchPlan::Entry LaunchFile::entry(const YAML::Node& raw, std::size_t index, co
     f.get("namespace", &e.node_namespace);
     if (e.node_namespace.empty() || e.node_namespace[0] != '/') fail("namespace '" + e.node_namespace + "' must start with '/'");
     dds::validateNodeName(e.name);
+    f.get("respawn", &e.respawn);
+    f.get("respawn_delay", &e.respawn_delay_s);
+    if (!(e.respawn_delay_s >= 0 && e.respawn_delay_s <= 3600)) fail("'respawn_delay' must be in [0, 3600] seconds");
+    if (e.respawn && (e.kind == LaunchPlan::Kind::kPlayer || e.kind == LaunchPlan::Kind::kRecorder))
+      fail(std::string("'respawn' is for frontends and backends: a ") +
+           (e.kind == LaunchPlan::Kind::kPlayer ? "player started again would play its input again"
+                                                : "recorder started again could not reopen its bag"));
     switch (e.kind) {
       case LaunchPlan::Kind::kPlayer: {
         auto& p = e.player;
@@ -393,7 +400,8 @@ LaunchPlan::Entry LaunchFile::entry(const YAML::Node& raw, std::size_t index, co
 
 std::string LaunchFile::keysHelp() {
   return "Keys of every component: component (player, frontend, backend, recorder), name (node name, default: the\n"
-         "kind), namespace (default /mcvio), if / unless (true or false).\n"
+         "kind), namespace (default /mcvio), if / unless (true or false); frontends and backends also respawn\n"
+         "(true: with --processes, start it again when it ends while the launch runs) and respawn_delay (s).\n"
          "  player    input (EuRoC folder or bag, required), topics (bags: a list), rate, lossless, loop, start,\n"
          "            duration, max_gap, wait_for_readers, progress\n"
          "  frontend  calibration (EuRoC folder, required), config (YAML with frontend:), tracks_image, lossless,\n"

@@ -36,6 +36,7 @@ struct Child {
   bool running = false;
   int exit_code = -1;  // -1 until it exits, or when a signal ended it
   int signal = 0;      // the signal that ended it
+  int respawns = 0;    // times it was started again (`respawn`)
 };
 
 void closeFd(int& fd) {
@@ -46,6 +47,12 @@ void closeFd(int& fd) {
 std::string describeExit(int exit_code, int signal) {
   if (signal != 0) return "was ended by signal " + std::to_string(signal) + " (" + strsignal(signal) + ")";
   return "exited with " + std::to_string(exit_code) + (exit_code == 130 ? " (interrupted)" : "");
+}
+
+std::string seconds(double s) {
+  std::ostringstream os;
+  os << s << " s";
+  return os.str();
 }
 
 std::string label(const Child& c) {
@@ -183,6 +190,26 @@ LaunchSupervisor::Result LaunchSupervisor::run() {
     say(why);
   };
   std::vector<Child> children(plan_.entries.size());
+  // A component with `respawn` that ended while the launch ran: after its delay it is started
+  // again and waited for as at the start; one that cannot start again fails the launch, so a
+  // broken component does not respawn forever.
+  const auto respawn = [&](Child& c) {
+    ++c.respawns;
+    const double delay = c.entry->respawn_delay_s;
+    say(label(c) + " " + describeExit(c.exit_code, c.signal) + " while the launch ran; respawning it" +
+        (delay > 0 ? " in " + seconds(delay) : "") + " (respawn " + std::to_string(c.respawns) + ")");
+    if (delay > 0 &&
+        dds::ShutdownSignal::waitFor(std::chrono::milliseconds(static_cast<long long>(delay * 1000.0 + 0.5))))
+      return;
+    c.exit_code = -1;
+    c.signal = 0;
+    const std::string why = spawn(command_(*c.entry), &c);
+    if (!why.empty()) return fail("cannot respawn " + label(c) + ": " + why);
+    say("started " + label(c) + " again (pid " + std::to_string(c.pid) + ")");
+    const auto r = waitReady(c, options_.start_timeout_s);
+    if (r == Readiness::kExited) fail(label(c) + " " + describeExit(c.exit_code, c.signal) + " before it had started again");
+    if (r == Readiness::kTimedOut) fail(label(c) + " had not started again after " + seconds(options_.start_timeout_s));
+  };
   for (std::size_t i = 0; i < children.size(); ++i) children[i].entry = &plan_.entries[i];
 
   // Start: everything but the players in the file's order, each once it is listening; then the
@@ -221,6 +248,8 @@ LaunchSupervisor::Result LaunchSupervisor::run() {
       if (c.entry->kind == Kind::kPlayer) {
         if (c.exit_code != 0 || c.signal != 0) fail(label(c) + " failed: it " + describeExit(c.exit_code, c.signal));
         else say(label(c) + " has played everything");
+      } else if (c.entry->respawn) {
+        respawn(c);
       } else {
         fail(label(c) + " " + describeExit(c.exit_code, c.signal) + " while the launch ran");
       }
@@ -264,7 +293,7 @@ LaunchSupervisor::Result LaunchSupervisor::run() {
     if (result.interrupted) stopNow();
   }
   for (const auto& c : children)
-    result.children.push_back({c.entry->name, c.entry->kind, c.pid, c.exit_code, c.signal});
+    result.children.push_back({c.entry->name, c.entry->kind, c.pid, c.exit_code, c.signal, c.respawns});
   result.wall_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return result;
 }
@@ -275,6 +304,7 @@ std::string LaunchSupervisor::summary(const Result& result) {
     os << "  " << LaunchPlan::kindName(c.kind) << " '" << c.name << "': ";
     if (c.pid < 0) os << "not started";
     else os << "process " << c.pid << ", " << (c.exit_code == 0 ? "exited cleanly" : describeExit(c.exit_code, c.signal));
+    if (c.respawns > 0) os << " (respawned " << c.respawns << (c.respawns == 1 ? " time)" : " times)");
     os << "\n";
   }
   os << "  " << result.wall_seconds << " s" << (result.interrupted ? ", interrupted" : "") << "\n";

@@ -159,6 +159,10 @@ TEST(LaunchFile, BadLaunchFilesNameTheFileLineAndKey) {
       {"components:\n  - component: player\n    namespace: mcvio\n    input: d\n", {}, "namespace 'mcvio' must start with '/'"},
       {"exit_when_played: sometimes\n" + player, {}, "test.yaml:1: 'exit_when_played' must be true or false"},
       {"drain_timeout: 0\n" + player, {}, "test.yaml:1: 'drain_timeout' must be in (0, 86400] seconds"},
+      {player + "    respawn: true\n", {}, "test.yaml:2: component 'player': 'respawn' is for frontends and backends: a player started again would play its input again"},
+      {"components:\n  - component: recorder\n    output: b\n    all: true\n    respawn: true\n", {}, "'respawn' is for frontends and backends: a recorder started again could not reopen its bag"},
+      {"components:\n  - component: backend\n    calibration: c\n    respawn: sometimes\n", {}, "launch key 'components[0].respawn' has an invalid value 'sometimes'"},
+      {"components:\n  - component: frontend\n    calibration: c\n    respawn: true\n    respawn_delay: -1\n", {}, "component 'frontend': 'respawn_delay' must be in [0, 3600] seconds"},
       {"arguments: [data]\n" + player, {}, "test.yaml:1: 'arguments' must be a map"},
       {"arguments:\n  data: {defualt: x}\n" + player, {}, "test.yaml:2: unknown launch key 'arguments.data.defualt'"},
       {"arguments:\n  bad-name: {}\n" + player, {}, "test.yaml:2: argument 'bad-name' is not a name"},
@@ -198,11 +202,15 @@ TEST(LaunchFile, TheShippedPipelineFileResolves) {
   EXPECT_EQ(plan.entries[1].backend.estimator.conflict.mode, conflict::ResolutionMode::kAuto);
   EXPECT_EQ(plan.entries[2].kind, LaunchPlan::Kind::kPlayer);
   EXPECT_FALSE(plan.entries[2].player.lossless);
-  plan = file.resolve({{"data", "/tmp/seq"}, {"play", "false"}, {"record", "true"}, {"lossless", "true"}});
+  for (const auto& e : plan.entries) EXPECT_FALSE(e.respawn) << e.name;
+  plan = file.resolve({{"data", "/tmp/seq"}, {"play", "false"}, {"record", "true"}, {"lossless", "true"}, {"respawn", "true"}});
   ASSERT_EQ(plan.entries.size(), 3u);
   EXPECT_EQ(plan.entries[0].kind, LaunchPlan::Kind::kRecorder);
+  EXPECT_FALSE(plan.entries[0].respawn);
   EXPECT_TRUE(plan.entries[1].frontend.lossless);
+  EXPECT_TRUE(plan.entries[1].respawn);
   EXPECT_TRUE(plan.entries[2].backend.lossless);
+  EXPECT_TRUE(plan.entries[2].respawn);
   EXPECT_FALSE(plan.has(LaunchPlan::Kind::kPlayer));
 }
 

@@ -145,3 +145,56 @@ TEST(LaunchSupervisor, AProgramThatCannotBeRunIsNamed) {
   const auto r = supervisor.run();
   EXPECT_EQ(r.error, "recorder 'rec' exited with 127 before it started");
 }
+
+// `respawn`: a backend that crashes while the player plays is started again and the launch goes
+// on to its normal end; one that cannot start again fails the launch instead of looping.
+TEST(LaunchSupervisor, ARespawningComponentIsStartedAgainAndOneThatCannotStartFails) {
+  // The first run crashes once it is listening; later runs listen until their input ends.
+  const std::string marker = ::testing::TempDir() + "/supervisor_respawn_" + std::to_string(getpid());
+  ::setenv("MARKER", marker.c_str(), 1);
+  const std::string crashes_once =
+      "if [ ! -e \"$MARKER\" ]; then touch \"$MARKER\"; echo start-$0 >> \"$LOG\"; printf 1 >&$MCVIO_LAUNCH_READY_FD; "
+      "kill -SEGV $$; fi; " + std::string(kListening);
+  {
+    std::filesystem::remove(marker);
+    Scripted s;
+    s.add(Kind::kBackend, "be", crashes_once);
+    s.plan.entries.back().respawn = true;
+    s.plan.entries.back().respawn_delay_s = 0.2;
+    s.add(Kind::kPlayer, "pl", "sleep 2; " + std::string(kPlaying));
+    const auto r = s.run();
+    EXPECT_TRUE(r.error.empty()) << r.error;
+    ASSERT_EQ(r.children.size(), 2u);
+    EXPECT_EQ(r.children[0].respawns, 1);
+    EXPECT_EQ(r.children[0].exit_code, 0);  // the respawned one stopped cleanly at the end
+    EXPECT_EQ(r.children[1].exit_code, 0);
+    EXPECT_EQ(s.lines(), (std::vector<std::string>{"start-be", "start-be", "start-pl", "played-pl", "stop-be"}));
+    EXPECT_NE(LaunchSupervisor::summary(r).find("respawned 1 time)"), std::string::npos) << LaunchSupervisor::summary(r);
+  }
+  {
+    std::filesystem::remove(marker);
+    Scripted s;
+    s.add(Kind::kRecorder, "rec", kListening);
+    s.add(Kind::kBackend, "be", "if [ ! -e \"$MARKER\" ]; then touch \"$MARKER\"; printf 1 >&$MCVIO_LAUNCH_READY_FD; "
+                                "kill -SEGV $$; fi; exit 3");
+    s.plan.entries.back().respawn = true;
+    s.add(Kind::kPlayer, "pl", "sleep 5");
+    const auto r = s.run();
+    EXPECT_EQ(r.error, "backend 'be' exited with 3 before it had started again");
+    EXPECT_EQ(r.children[0].signal, SIGINT);  // the recorder got SIGINT (a real one closes its bag)
+    EXPECT_EQ(r.children[1].respawns, 1);
+    EXPECT_EQ(r.children[2].signal, SIGINT);
+  }
+  {
+    // Without respawn the same crash ends the launch.
+    std::filesystem::remove(marker);
+    Scripted s;
+    s.add(Kind::kBackend, "be", crashes_once);
+    s.add(Kind::kPlayer, "pl", "sleep 5");
+    const auto r = s.run();
+    EXPECT_EQ(r.error, "backend 'be' was ended by signal 11 (Segmentation fault) while the launch ran");
+    EXPECT_EQ(r.children[0].respawns, 0);
+  }
+  std::filesystem::remove(marker);
+  ::unsetenv("MARKER");
+}

@@ -1164,11 +1164,17 @@ void SlidingWindowEstimator::restartFrom(Frame& cur, const MotionConflictMonitor
   frames_.push_back(std::move(keep));
   clearLandmarks();
   setStatePrior(cur, sigmas);
-  if (position_covariance != nullptr) {
+  if (position_covariance != nullptr) setWindowPositionCovariance(*position_covariance);
+}
+
+void SlidingWindowEstimator::setWindowPositionCovariance(const Eigen::Matrix3d& covariance) {
+  if (prior_ == nullptr) return;
+  if (whole_prior_ == nullptr) {
+    // The covariance's information starts as the solver's prior, without its pull (r = 0).
     whole_prior_ = std::make_shared<MarginalizationPrior>(*prior_);
     whole_prior_->r.setZero();
-    whole_prior_->setCommonTranslationCovariance(*position_covariance);
   }
+  whole_prior_->setCommonTranslationCovariance(covariance);
 }
 
 void SlidingWindowEstimator::rememberLandmark(std::uint64_t track_id, Timestamp t) {
@@ -1247,13 +1253,8 @@ void SlidingWindowEstimator::smoothConflictWindow(EstimatorOutput* out) {
   // The correction is not a solve: where the window now is, is known as well as the start and the
   // correction's own error say. The covariance's information takes that (never the solver's prior,
   // so no estimate changes); the window's shape stays as the solves left it.
-  if (res.shift_covariance_valid && at_start != nullptr && prior_ != nullptr) {
-    if (whole_prior_ == nullptr) {
-      whole_prior_ = std::make_shared<MarginalizationPrior>(*prior_);
-      whole_prior_->r.setZero();
-    }
-    whole_prior_->setCommonTranslationCovariance(at_start->topLeftCorner<3, 3>() + res.shift_covariance);
-  }
+  if (res.shift_covariance_valid && at_start != nullptr)
+    setWindowPositionCovariance(at_start->topLeftCorner<3, 3>() + res.shift_covariance);
   out->p_WB += res.shift;
   out->revised_poses = std::move(res.revisions);
   out->revised_secondary = std::move(res.secondary_revisions);

@@ -89,6 +89,8 @@ void addLaunchCommand(CLI::App& app, CommandContext& ctx) {
       "  mcvio launch config/pipeline.yaml data:=/tmp/elevator mode:=reference record:=true bag:=/tmp/rec lossless:=true\n"
       "  mcvio launch config/pipeline.yaml data:=/tmp/elevator play:=false    # live sensors on the bus\n"
       "  mcvio launch config/pipeline.yaml data:=/tmp/elevator --processes   # one process per component\n"
+      "  mcvio launch config/pipeline.yaml data:=/tmp/elevator --processes respawn:=true   # restart a crashed\n"
+      "                                                                  # frontend or backend\n"
       "  mcvio launch config/pipeline.yaml --show-args\n" +
           components::LaunchFile::keysHelp());
   cmd->add_option("file", opt->file, "launch file (YAML), e.g. config/pipeline.yaml")->required();
@@ -98,7 +100,8 @@ void addLaunchCommand(CLI::App& app, CommandContext& ctx) {
   cmd->add_flag("--processes", opt->processes,
                 "run each component in a process of its own (`mcvio launch FILE ... --node NAME`), players "
                 "last; once they have exited the rest stop in the order data flows, each after handling "
-                "its queue; Ctrl-C stops them all, bags closed");
+                "its queue; Ctrl-C stops them all, bags closed; a frontend or backend with 'respawn: true' that "
+                "ends meanwhile is started again");
   cmd->add_option("--node", opt->node,
                   "run only the component NAME of the file (what --processes starts in each process), e.g. "
                   "--node backend");
@@ -124,6 +127,11 @@ void addLaunchCommand(CLI::App& app, CommandContext& ctx) {
       runInProcesses(std::move(plan), *opt, ctx);
       return;
     }
+    if (opt->node.empty())
+      for (const auto& e : plan.entries)
+        if (e.respawn)
+          std::cerr << "mcvio launch: " << components::LaunchPlan::kindName(e.kind) << " '" << e.name
+                    << "' has 'respawn', which takes --processes (in one process a crash ends the launch); ignored\n";
     components::Launcher::Control control;
     if (!opt->node.empty()) {
       plan = onlyNode(std::move(plan), opt->node);

@@ -19,6 +19,11 @@ struct LaunchPlan {
     Kind kind = Kind::kPlayer;
     std::string name;                 ///< node name, unique in the plan (default: the kind)
     std::string node_namespace = "/mcvio";
+    /// With `mcvio launch --processes`: a frontend or backend that ends while the launch runs is
+    /// started again after respawn_delay_s, as ROS 2 launch's `respawn` does (in one process a
+    /// crash ends the whole launch). One that then exits before it is listening fails the launch.
+    bool respawn = false;
+    double respawn_delay_s = 0;
     /// Player: a EuRoC folder or a rosbag2 bag; `topics` selects a bag's topics (empty: all).
     std::string input;
     std::vector<std::string> topics;

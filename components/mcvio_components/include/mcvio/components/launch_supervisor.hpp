@@ -13,6 +13,8 @@ namespace mcvio::components {
 /// the one before has said it is listening, the players last; when every player has exited it
 /// stops the rest in the order data flows (frontends, backends, recorders), each after it has
 /// handled what it received; Ctrl-C (or SIGTERM) stops every component at once, bags closed.
+/// A frontend or backend with `respawn` that ends while the launch runs is started again (after
+/// its respawn_delay) instead of ending the launch.
 ///
 /// The protocol with a child (`mcvio launch FILE ... --node NAME`, see the static helpers):
 /// - the child writes one byte to the descriptor named by $MCVIO_LAUNCH_READY_FD once its
@@ -38,6 +40,7 @@ class LaunchSupervisor {
     int pid = -1;
     int exit_code = -1;  ///< -1: never started, or ended by a signal
     int signal = 0;      ///< the signal that ended it (0: it exited)
+    int respawns = 0;    ///< times it was started again (LaunchPlan::Entry::respawn); pid is the last
   };
   struct Result {
     std::vector<ChildResult> children;  ///< in the plan's order

@@ -167,6 +167,9 @@ class SlidingWindowEstimator {
   void restartFrom(Frame& cur, const MotionConflictMonitor::State& state, const Eigen::Matrix<double, 15, 1>& sigmas,
                    const Eigen::Matrix3d* position_covariance = nullptr);
   void setStatePrior(Frame& frame, const Eigen::Matrix<double, 15, 1>& sigmas);
+  /// The covariance (whole_prior_, never the solver's prior) puts the window's common position at
+  /// `covariance` and keeps its shape: after a restart or the conflict window's correction.
+  void setWindowPositionCovariance(const Eigen::Matrix3d& covariance);
   void applyConflictDecision(const MotionConflictMonitor::Decision& decision, Frame& cur);
   /// The conflict window after an IMU-dominated interval: re-estimates it and moves the window.
   void smoothConflictWindow(EstimatorOutput* out);
