@@ -5,10 +5,11 @@ set -uo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh || { echo "0 passed, 1 failed (set-up or build failed)"; exit 1; }
 
-# The DDS-free libraries (src/) run their tests two at a time, one per core: each is a
-# single-threaded process of its own with its own temporary files, and most of the suite's time is
-# their offline runs. The DDS packages run one test at a time, package after package: discovery
-# and the components' queues would otherwise compete for 2 cores.
+# The DDS-free libraries (src/) run as many tests at a time as there are cores: each test is a
+# process of its own with its own temporary files, and most of the suite's time is their
+# CPU-bound offline runs (the feature-level ones single-threaded). The DDS packages run one test
+# at a time, package after package: discovery and the components' queues would otherwise compete
+# for 2 cores.
 # colcon test exits non-zero only when a package's test step itself broke (its tests then have
 # no results and would be missing from the counts below, not failed): that fails the run.
 jobs=$(nproc)
