@@ -89,8 +89,7 @@ void addLaunchCommand(CLI::App& app, CommandContext& ctx) {
       "  mcvio launch config/pipeline.yaml data:=/tmp/elevator mode:=reference record:=true bag:=/tmp/rec lossless:=true\n"
       "  mcvio launch config/pipeline.yaml data:=/tmp/elevator play:=false    # live sensors on the bus\n"
       "  mcvio launch config/pipeline.yaml data:=/tmp/elevator --processes   # one process per component\n"
-      "  mcvio launch config/pipeline.yaml data:=/tmp/elevator --processes respawn:=true   # restart a crashed\n"
-      "                                                                  # frontend or backend\n"
+      "  mcvio launch config/pipeline.yaml data:=/tmp/elevator --processes respawn:=true   # crashed ones restart\n"
       "  mcvio launch config/pipeline.yaml --show-args\n" +
           components::LaunchFile::keysHelp());
   cmd->add_option("file", opt->file, "launch file (YAML), e.g. config/pipeline.yaml")->required();
