@@ -138,6 +138,27 @@ TEST(RunOnBag, RecordedPlaybackGivesTheSameTrajectoryAsTheDataset) {
   const std::string json{std::istreambuf_iterator<char>(stats), std::istreambuf_iterator<char>()};
   EXPECT_NE(json.find("topic /imu0: metadata.yaml says sensor_msgs/msg/MagneticField"), std::string::npos) << json;
 
+  // A bag without the images (as `mcvio demo` records the backend's input): the error names the
+  // missing topic and what the bag holds instead.
+  {
+    bag::BagReader in(base + "/bag");
+    bag::BagWriter out(base + "/imu_only");
+    for (const auto& t : in.topics())
+      if (t.name == "/imu0") out.addTopic(t);
+    for (bag::BagMessage m; in.next(m);)
+      if (m.topic == "/imu0") out.write(m);
+    out.close();
+  }
+  pipeline::OfflineRunOptions imu_only = from_bag;
+  imu_only.dataset_dir = base + "/imu_only";
+  imu_only.output_dir = base + "/from_imu_only";
+  try {
+    pipeline::runOffline(imu_only);
+    ADD_FAILURE() << "a bag without images ran";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("the bag has no /cam0/image_raw (it holds /imu0)"), std::string::npos) << e.what();
+  }
+
   from_bag.calibration_dir.clear();
   EXPECT_THROW(pipeline::runOffline(from_bag), InputError);
   std::filesystem::remove_all(base);

@@ -94,7 +94,16 @@ OfflineInput readBag(const OfflineRunOptions& options) {
     defs[t.name] = std::make_unique<rosmsg::MessageDefinitionSet>(rosmsg::MessageDefinitionSet::parse(t.type, definition));
   }
   for (const char* needed : {"/cam0/image_raw", "/cam1/image_raw", "/imu0"}) {
-    if (!defs.count(needed)) throw InputError(options.dataset_dir + ": the bag has no " + std::string(needed));
+    if (defs.count(needed)) continue;
+    // Name what the bag does hold: a bag of the backend's input (/mcvio/features, as `mcvio
+    // demo` records) looks like a run's bag but cannot be run from.
+    std::string held;
+    const bag::BagReader every_topic(options.dataset_dir);
+    for (const auto& t : every_topic.topics()) held += (held.empty() ? "" : ", ") + t.name;
+    throw InputError(options.dataset_dir + ": the bag has no " + std::string(needed) + " (it holds " +
+                     (held.empty() ? std::string("no topics") : held) +
+                     "); `mcvio run` starts from the stereo images and the IMU: record /cam0/image_raw, "
+                     "/cam1/image_raw and /imu0");
   }
   std::map<Timestamp, std::pair<cv::Mat, cv::Mat>> frames;
   std::map<std::string, Timestamp> last_stamp;  // per topic, in the bag's order
