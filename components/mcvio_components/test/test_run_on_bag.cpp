@@ -30,6 +30,22 @@ std::vector<std::string> lines(const std::string& path) {
   return v;
 }
 
+// Copies the topics `keep` accepts, with their messages, into a new bag; `edit` may change each
+// topic's description on the way.
+template <typename Keep, typename Edit>
+void copyBag(const std::string& from, const std::string& to, const bag::BagWriterOptions& options, Keep keep, Edit edit) {
+  bag::BagReader in(from);
+  bag::BagWriter out(to, options);
+  for (auto t : in.topics()) {
+    if (!keep(t.name)) continue;
+    edit(t);
+    out.addTopic(t);
+  }
+  for (bag::BagMessage m; in.next(m);)
+    if (keep(m.topic)) out.write(m);
+  out.close();
+}
+
 }  // namespace
 
 TEST(RunOnBag, RecordedPlaybackGivesTheSameTrajectoryAsTheDataset) {
@@ -95,18 +111,10 @@ TEST(RunOnBag, RecordedPlaybackGivesTheSameTrajectoryAsTheDataset) {
   // The same messages in an sqlite3 bag whose topics carry no message definition (rosbag2 before
   // Iron has no message_definitions table): without definitions the run names the type; with the
   // built-in ones `mcvio run` passes it gives the same trajectory and says what it did.
-  {
-    bag::BagReader in(base + "/bag");
-    bag::BagWriterOptions wo;
-    wo.storage = "sqlite3";
-    bag::BagWriter out(base + "/before_iron", wo);
-    for (auto t : in.topics()) {
-      t.message_definition.clear();
-      out.addTopic(t);
-    }
-    for (bag::BagMessage m; in.next(m);) out.write(m);
-    out.close();
-  }
+  bag::BagWriterOptions sqlite;
+  sqlite.storage = "sqlite3";
+  copyBag(base + "/bag", base + "/before_iron", sqlite, [](const std::string&) { return true; },
+          [](bag::TopicInfo& t) { t.message_definition.clear(); });
   pipeline::OfflineRunOptions before_iron = from_bag;
   before_iron.dataset_dir = base + "/before_iron";
   before_iron.output_dir = base + "/from_before_iron";
@@ -140,15 +148,8 @@ TEST(RunOnBag, RecordedPlaybackGivesTheSameTrajectoryAsTheDataset) {
 
   // A bag without the images (as `mcvio demo` records the backend's input): the error names the
   // missing topic and what the bag holds instead.
-  {
-    bag::BagReader in(base + "/bag");
-    bag::BagWriter out(base + "/imu_only");
-    for (const auto& t : in.topics())
-      if (t.name == "/imu0") out.addTopic(t);
-    for (bag::BagMessage m; in.next(m);)
-      if (m.topic == "/imu0") out.write(m);
-    out.close();
-  }
+  copyBag(base + "/bag", base + "/imu_only", bag::BagWriterOptions{}, [](const std::string& topic) { return topic == "/imu0"; },
+          [](bag::TopicInfo&) {});
   pipeline::OfflineRunOptions imu_only = from_bag;
   imu_only.dataset_dir = base + "/imu_only";
   imu_only.output_dir = base + "/from_imu_only";
