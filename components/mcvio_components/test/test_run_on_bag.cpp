@@ -160,6 +160,36 @@ TEST(RunOnBag, RecordedPlaybackGivesTheSameTrajectoryAsTheDataset) {
     EXPECT_NE(std::string(e.what()).find("the bag has no /cam0/image_raw (it holds /imu0)"), std::string::npos) << e.what();
   }
 
+  // /mcvio/features of another type is refused by name, not decoded as something else.
+  {
+    bag::BagReader in(base + "/bag");
+    bag::BagWriter out(base + "/wrong_type");
+    for (auto t : in.topics()) {
+      if (t.name != "/imu0") continue;
+      out.addTopic(t);
+      t.name = "/mcvio/features";
+      out.addTopic(t);
+    }
+    for (bag::BagMessage m; in.next(m);) {
+      if (m.topic != "/imu0") continue;
+      out.write(m);
+      m.topic = "/mcvio/features";
+      out.write(m);
+    }
+    out.close();
+  }
+  pipeline::OfflineRunOptions wrong_type = from_bag;
+  wrong_type.dataset_dir = base + "/wrong_type";
+  wrong_type.output_dir = base + "/from_wrong_type";
+  try {
+    pipeline::runOffline(wrong_type);
+    ADD_FAILURE() << "IMU messages on /mcvio/features ran as features";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("topic /mcvio/features has type sensor_msgs/msg/Imu, not mcvio_msgs/msg/FeatureFrame"),
+              std::string::npos)
+        << e.what();
+  }
+
   from_bag.calibration_dir.clear();
   EXPECT_THROW(pipeline::runOffline(from_bag), InputError);
   std::filesystem::remove_all(base);

@@ -66,6 +66,29 @@ Timestamp stampOf(const rosmsg::MessageValue& msg) {
 
 double number(const rosmsg::MessageValue& v) { return std::get<double>(v.value); }
 
+constexpr const char* kFeaturesTopic = "/mcvio/features";
+
+// A recorded mcvio_msgs/FeatureFrame as the backend component reads it (an unknown label is
+// kUnknown).
+FeatureFrame featureFrameOf(const rosmsg::MessageValue& msg, Timestamp t) {
+  FeatureFrame f;
+  f.t = t;
+  f.frame_index = static_cast<std::uint32_t>(std::get<std::uint64_t>(msg["frame_index"].value));
+  const auto& features = std::get<rosmsg::MessageValue::Array>(msg["features"].value);
+  f.features.reserve(features.size());
+  for (const auto& m : features) {
+    FeatureObservation o;
+    o.track_id = std::get<std::uint64_t>(m["track_id"].value);
+    o.camera_index = static_cast<std::uint8_t>(std::get<std::uint64_t>(m["camera_index"].value));
+    o.pixel = {number(m["u"]), number(m["v"])};
+    o.normalized = {number(m["x"]), number(m["y"])};
+    const auto label = std::get<std::uint64_t>(m["label"].value);
+    o.label = label <= 2 ? static_cast<TrackLabel>(label) : TrackLabel::kUnknown;
+    f.features.push_back(o);
+  }
+  return f;
+}
+
 OfflineInput readBag(const OfflineRunOptions& options) {
   if (options.calibration_dir.empty()) {
     throw InputError(options.dataset_dir + " is a bag: give --calib DIR (EuRoC sensor.yaml folder); "
@@ -74,7 +97,7 @@ OfflineInput readBag(const OfflineRunOptions& options) {
   OfflineInput in;
   in.calibration = dataset::EurocFileReader::readCalibration(options.calibration_dir);
   bag::BagReaderOptions ro;
-  ro.topics = {"/cam0/image_raw", "/cam1/image_raw", "/imu0"};
+  ro.topics = {"/cam0/image_raw", "/cam1/image_raw", "/imu0", kFeaturesTopic};
   bag::BagReader reader(options.dataset_dir, ro);
   // metadata.yaml disagreeing with the storage, an unknown sqlite3 schema version, a topic that
   // is not CDR: the run goes on, and says so like `mcvio play` does.
@@ -93,18 +116,29 @@ OfflineInput readBag(const OfflineRunOptions& options) {
     }
     defs[t.name] = std::make_unique<rosmsg::MessageDefinitionSet>(rosmsg::MessageDefinitionSet::parse(t.type, definition));
   }
-  for (const char* needed : {"/cam0/image_raw", "/cam1/image_raw", "/imu0"}) {
-    if (defs.count(needed)) continue;
-    // Name what the bag does hold: a bag of the backend's input (/mcvio/features, as `mcvio
-    // demo` records) looks like a run's bag but cannot be run from.
+  // Images and IMU run the whole pipeline; without images, the frontend's recorded output and
+  // the IMU run the estimator alone.
+  const bool from_features = !(defs.count("/cam0/image_raw") && defs.count("/cam1/image_raw")) && defs.count(kFeaturesTopic);
+  const std::vector<std::string> needed =
+      from_features ? std::vector<std::string>{kFeaturesTopic, "/imu0"}
+                    : std::vector<std::string>{"/cam0/image_raw", "/cam1/image_raw", "/imu0"};
+  for (const auto& topic : needed) {
+    if (defs.count(topic)) continue;
     std::string held;
     const bag::BagReader every_topic(options.dataset_dir);
     for (const auto& t : every_topic.topics()) held += (held.empty() ? "" : ", ") + t.name;
-    throw InputError(options.dataset_dir + ": the bag has no " + std::string(needed) + " (it holds " +
+    throw InputError(options.dataset_dir + ": the bag has no " + topic + " (it holds " +
                      (held.empty() ? std::string("no topics") : held) +
-                     "); `mcvio run` starts from the stereo images and the IMU: record /cam0/image_raw, "
-                     "/cam1/image_raw and /imu0");
+                     "); `mcvio run` needs /cam0/image_raw, /cam1/image_raw and /imu0, or " + kFeaturesTopic +
+                     " and /imu0 to run the estimator alone");
   }
+  if (from_features) {
+    for (const auto& t : reader.topics())
+      if (t.name == kFeaturesTopic && t.type != "mcvio_msgs/msg/FeatureFrame")
+        throw InputError(options.dataset_dir + ": topic " + kFeaturesTopic + " has type " + t.type +
+                         ", not mcvio_msgs/msg/FeatureFrame");
+  }
+  std::map<Timestamp, FeatureFrame> feature_frames;
   std::map<Timestamp, std::pair<cv::Mat, cv::Mat>> frames;
   std::map<std::string, Timestamp> last_stamp;  // per topic, in the bag's order
   bag::BagMessage m;
@@ -125,6 +159,16 @@ OfflineInput readBag(const OfflineRunOptions& options) {
         s.gyro = {number(value["angular_velocity"]["x"]), number(value["angular_velocity"]["y"]), number(value["angular_velocity"]["z"])};
         s.accel = {number(value["linear_acceleration"]["x"]), number(value["linear_acceleration"]["y"]), number(value["linear_acceleration"]["z"])};
         in.imu.push_back(s);
+        continue;
+      }
+      if (m.topic == kFeaturesTopic) {
+        if (!from_features) continue;
+        if (feature_frames.count(t)) {
+          in.warnings.push_back(reader.where(m) + ": a second feature frame with header stamp " + std::to_string(t) +
+                                " ns; the first is kept, this one skipped");
+          continue;
+        }
+        feature_frames.emplace(t, featureFrameOf(value, t));
         continue;
       }
       const auto& enc = std::get<std::string>(value["encoding"].value);
@@ -150,6 +194,17 @@ OfflineInput readBag(const OfflineRunOptions& options) {
       throw InputError(reader.where(m) + ": " + e.what());
     }
   }
+  std::sort(in.imu.begin(), in.imu.end(), [](const ImuSample& a, const ImuSample& b) { return a.t < b.t; });
+  if (from_features) {
+    std::vector<FeatureFrame> list;
+    for (auto& [t, f] : feature_frames) {
+      in.frame_times.push_back(t);
+      list.push_back(std::move(f));
+    }
+    auto shared = std::make_shared<std::vector<FeatureFrame>>(std::move(list));
+    in.features = [shared](std::size_t i) { return (*shared)[i]; };
+    return in;
+  }
   std::vector<std::pair<cv::Mat, cv::Mat>> pairs;
   for (auto& [t, p] : frames) {
     if (p.first.empty() || p.second.empty()) {
@@ -159,7 +214,6 @@ OfflineInput readBag(const OfflineRunOptions& options) {
     in.frame_times.push_back(t);
     pairs.push_back(std::move(p));
   }
-  std::sort(in.imu.begin(), in.imu.end(), [](const ImuSample& a, const ImuSample& b) { return a.t < b.t; });
   auto shared = std::make_shared<std::vector<std::pair<cv::Mat, cv::Mat>>>(std::move(pairs));
   in.images = [shared](std::size_t i) { return (*shared)[i]; };
   return in;
@@ -357,6 +411,22 @@ void runSequential(const OfflineInput& data, VioPipeline& vio, RunRecorder& rec,
   }
 }
 
+// The recorded frontend output straight to the estimator, on the calling thread.
+void runOnFeatures(const OfflineInput& data, VioPipeline& vio, RunRecorder& rec,
+                   const std::function<bool()>& stop_requested) {
+  std::size_t next_imu = 0;
+  for (std::size_t i = 0; i < data.frame_times.size(); ++i) {
+    throwIfStopRequested(stop_requested, i, data.frame_times.size());
+    TrackedFrame frame;
+    frame.index = i;
+    frame.imu = imuThrough(data.imu, data.frame_times[i], &next_imu);
+    const double c0 = threadCpuMs();
+    frame.tracking.features = data.features(i);
+    const double load_ms = threadCpuMs() - c0;
+    rec.add(i, vio.estimateFrame(std::move(frame)), load_ms);
+  }
+}
+
 // Decoding on one thread, the frontend on the calling thread, the estimator on a third. The
 // first error stops all three and is rethrown.
 void runPipelined(const OfflineInput& data, VioPipeline& vio, RunRecorder& rec,
@@ -471,7 +541,7 @@ OfflineRunSummary runOffline(const OfflineInput& data, const OfflineRunOptions& 
   for (const auto& w : data.warnings) std::cerr << "mcvio run: warning: " << w << "\n";
   if (data.frame_times.empty()) throw InputError(options.dataset_dir + ": no stereo frames to run on");
   if (data.imu.empty()) throw InputError(options.dataset_dir + ": no IMU samples");
-  if (!data.images) throw InputError(options.dataset_dir + ": no image source");
+  if (!data.images && !data.features) throw InputError(options.dataset_dir + ": no image or feature source");
   checkImuCoverage(data, options.dataset_dir);
   auto vio_options =
       options.config_file.empty() ? VioPipelineOptions::shipped() : VioPipelineOptions::fromYamlFile(options.config_file);
@@ -486,7 +556,9 @@ OfflineRunSummary runOffline(const OfflineInput& data, const OfflineRunOptions& 
   const double load_start = loadAverage();
   const auto start = Clock::now();
   try {
-    if (options.pipelined) {
+    if (data.features) {
+      runOnFeatures(data, vio, rec, options.stop_requested);
+    } else if (options.pipelined) {
       runPipelined(data, vio, rec, options.stop_requested);
     } else {
       runSequential(data, vio, rec, options.stop_requested);
@@ -521,7 +593,8 @@ OfflineRunSummary runOffline(const OfflineInput& data, const OfflineRunOptions& 
   nlohmann::json stats = {
       {"dataset", options.dataset_dir},
       {"completed", true},
-      {"pipelined", options.pipelined},
+      {"input", data.features ? "recorded features (estimator only)" : "images"},
+      {"pipelined", options.pipelined && !data.features},
       {"frames", summary.frames},
       {"poses", summary.estimated},
       {"skipped_frames", summary.skipped},

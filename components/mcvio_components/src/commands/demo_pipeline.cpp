@@ -618,7 +618,9 @@ std::string DemoPipeline::summary(const std::vector<SequenceResult>& results, co
     out << "\n" << r.name << ":\n  report  " << r.report_dir << "/eval.md (and eval.json)\n  plots  ";
     for (const auto& p : r.plots) out << " " << fs::path(p).filename().string();
     out << " (in " << r.report_dir << ")\n  bag     " << r.bag_dir << " (" << r.bag_messages
-        << " messages; `mcvio bag info " << r.bag_dir << "`)\n";
+        << " messages; `mcvio bag info " << r.bag_dir << "`)\n  rerun   mcvio run --dataset " << r.bag_dir
+        << " --calib " << fs::path(r.bag_dir).parent_path().string() << "/data --mode imu --out "
+        << fs::path(r.bag_dir).parent_path().string() << "/imu   (the estimator alone on the bag's recorded features)\n";
   }
   return out.str();
 }

@@ -26,9 +26,14 @@ void addRunCommand(CLI::App& app, CommandContext&) {
       "  mcvio run --dataset ../shared/data/euroc_V1_01_excerpt --out /tmp/run\n"
       "  mcvio run --dataset /tmp/elevator --out /tmp/run_elevator --mode auto\n"
       "  mcvio run --dataset /tmp/elevator --out /tmp/run_elevator --config my_vio.yaml\n"
-      "  mcvio run --dataset /tmp/recorded_bag --calib ../shared/data/euroc_V1_01_excerpt --out /tmp/run_bag");
+      "  mcvio run --dataset /tmp/recorded_bag --calib ../shared/data/euroc_V1_01_excerpt --out /tmp/run_bag\n"
+      "A bag with /mcvio/features (the frontend's output) and /imu0 but no images runs the estimator alone\n"
+      "on the recorded features: on the bag of `mcvio demo` it gives exactly what the DDS backend published,\n"
+      "and other modes or options can be tried on the same input:\n"
+      "  mcvio run --dataset /tmp/mcvio_demo/elevator/bag --calib /tmp/mcvio_demo/elevator/data --mode reference --out /tmp/ref");
   cmd->add_option("--dataset", opt->dataset_dir,
-                  "EuRoC folder (holding mav0/) or a rosbag2 bag with /cam0/image_raw, /cam1/image_raw, /imu0")
+                  "EuRoC folder (holding mav0/), or a rosbag2 bag with /cam0/image_raw, /cam1/image_raw, /imu0\n"
+                  "(or with /mcvio/features and /imu0: the estimator alone)")
       ->required();
   cmd->add_option("--calib", opt->calibration_dir,
                   "EuRoC folder whose sensor.yaml files give the stereo calibration (required for bags)");

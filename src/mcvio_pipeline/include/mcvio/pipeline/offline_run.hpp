@@ -9,12 +9,15 @@
 
 #include <opencv2/core/mat.hpp>
 
+#include "mcvio/core/feature_frame.hpp"
 #include "mcvio/pipeline/vio_pipeline.hpp"
 
 namespace mcvio::pipeline {
 
 struct OfflineRunOptions {
-  std::string dataset_dir;  ///< EuRoC folder, or a rosbag2 bag with /cam0/image_raw, /cam1/image_raw, /imu0
+  /// EuRoC folder, or a rosbag2 bag with /cam0/image_raw, /cam1/image_raw and /imu0, or one with
+  /// /mcvio/features (the frontend's output) and /imu0, which runs the estimator alone.
+  std::string dataset_dir;
   /// Stereo calibration (EuRoC sensor.yaml folder); required for bags, which carry no extrinsics.
   std::string calibration_dir;
   std::string output_dir;   ///< trajectory.tum, stats.json
@@ -64,11 +67,17 @@ struct OfflineInput {
   /// Left and right mono8 images of frame i. Called once per frame, in frame order, from one
   /// thread that may run a few frames ahead of the frontend.
   std::function<std::pair<cv::Mat, cv::Mat>(std::size_t)> images;
+  /// Instead of images: the frontend's recorded output of frame i (a bag of /mcvio/features, as
+  /// `mcvio demo` records what its backend got). The frontend is skipped and the estimator gets
+  /// exactly what a DDS backend got. Called once per frame, in frame order.
+  std::function<FeatureFrame(std::size_t)> features;
   std::vector<std::string> warnings;  ///< printed at the start of the run and kept in stats.json
 };
 
 /// `mcvio run`: the whole pipeline over a EuRoC folder or a recorded bag without DDS, deterministic.
-/// A bag is read into memory first (images included): fine for minutes, not for hours. Writes
+/// A bag is read into memory first (images included): fine for minutes, not for hours. A bag
+/// with /mcvio/features and /imu0 but no images runs the estimator alone on the recorded
+/// features. Writes
 /// OUT/trajectory.tum (t x y z qx qy qz qw per tracked frame, pose of imu0 in world, t in s),
 /// OUT/conflict.csv (the motion-conflict statistics of every estimated frame), OUT/secondary.tum
 /// (the conflicting frame S in the world while it is tracked) and OUT/stats.json (per-stage CPU
