@@ -143,6 +143,8 @@ OfflineInput readBag(const OfflineRunOptions& options) {
   std::map<std::string, Timestamp> last_stamp;  // per topic, in the bag's order
   bag::BagMessage m;
   while (reader.next(m)) {
+    // Only the topics this run reads are decoded.
+    if ((m.topic == kFeaturesTopic) != from_features && m.topic != "/imu0") continue;
     try {
       const auto value = rosmsg::CdrCodec(*defs[m.topic]).decode(m.data);
       const Timestamp t = stampOf(value);
@@ -162,7 +164,6 @@ OfflineInput readBag(const OfflineRunOptions& options) {
         continue;
       }
       if (m.topic == kFeaturesTopic) {
-        if (!from_features) continue;
         if (feature_frames.count(t)) {
           in.warnings.push_back(reader.where(m) + ": a second feature frame with header stamp " + std::to_string(t) +
                                 " ns; the first is kept, this one skipped");
