@@ -160,14 +160,16 @@ TEST(RunOnBag, RecordedPlaybackGivesTheSameTrajectoryAsTheDataset) {
     EXPECT_NE(std::string(e.what()).find("the bag has no /cam0/image_raw (it holds /imu0)"), std::string::npos) << e.what();
   }
 
-  // /mcvio/features of another type is refused by name, not decoded as something else.
-  {
+  // /mcvio/features of another type, or of our type name with another definition (here the IMU's
+  // messages under either), is refused by name, not decoded as something else.
+  const auto imuAsFeatures = [&](const std::string& dir, const std::string& type) {
     bag::BagReader in(base + "/bag");
-    bag::BagWriter out(base + "/wrong_type");
+    bag::BagWriter out(dir);
     for (auto t : in.topics()) {
       if (t.name != "/imu0") continue;
       out.addTopic(t);
       t.name = "/mcvio/features";
+      t.type = type;
       out.addTopic(t);
     }
     for (bag::BagMessage m; in.next(m);) {
@@ -177,18 +179,24 @@ TEST(RunOnBag, RecordedPlaybackGivesTheSameTrajectoryAsTheDataset) {
       out.write(m);
     }
     out.close();
-  }
-  pipeline::OfflineRunOptions wrong_type = from_bag;
-  wrong_type.dataset_dir = base + "/wrong_type";
-  wrong_type.output_dir = base + "/from_wrong_type";
-  try {
-    pipeline::runOffline(wrong_type);
-    ADD_FAILURE() << "IMU messages on /mcvio/features ran as features";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("topic /mcvio/features has type sensor_msgs/msg/Imu, not mcvio_msgs/msg/FeatureFrame"),
-              std::string::npos)
-        << e.what();
-  }
+    pipeline::OfflineRunOptions o = from_bag;
+    o.dataset_dir = dir;
+    o.output_dir = dir + "_run";
+    try {
+      pipeline::runOffline(o);
+      return std::string("ran");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+  };
+  const std::string wrong_type = imuAsFeatures(base + "/wrong_type", "sensor_msgs/msg/Imu");
+  EXPECT_NE(wrong_type.find("topic /mcvio/features has type sensor_msgs/msg/Imu, not mcvio_msgs/msg/FeatureFrame"),
+            std::string::npos)
+      << wrong_type;
+  const std::string wrong_definition = imuAsFeatures(base + "/wrong_definition", "mcvio_msgs/msg/FeatureFrame");
+  EXPECT_NE(wrong_definition.find("/mcvio/features"), std::string::npos) << wrong_definition;
+  EXPECT_NE(wrong_definition.find("not this version's mcvio_msgs/msg/FeatureFrame: no field 'frame_index'"), std::string::npos)
+      << wrong_definition;
 
   from_bag.calibration_dir.clear();
   EXPECT_THROW(pipeline::runOffline(from_bag), InputError);

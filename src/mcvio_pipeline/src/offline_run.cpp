@@ -70,6 +70,19 @@ constexpr const char* kFeaturesTopic = "/mcvio/features";
 
 // A recorded mcvio_msgs/FeatureFrame as the backend component reads it (an unknown label is
 // kUnknown).
+FeatureFrame featureFrameOf(const rosmsg::MessageValue& msg, Timestamp t);
+
+// The same, for a bag whose FeatureFrame definition differs from ours (another version): say so.
+FeatureFrame checkedFeatureFrameOf(const rosmsg::MessageValue& msg, Timestamp t) {
+  try {
+    return featureFrameOf(msg, t);
+  } catch (const std::bad_variant_access&) {
+    throw std::runtime_error("a field has another type than in this version's mcvio_msgs/msg/FeatureFrame");
+  } catch (const std::out_of_range& e) {
+    throw std::runtime_error(std::string("not this version's mcvio_msgs/msg/FeatureFrame: ") + e.what());
+  }
+}
+
 FeatureFrame featureFrameOf(const rosmsg::MessageValue& msg, Timestamp t) {
   FeatureFrame f;
   f.t = t;
@@ -169,7 +182,7 @@ OfflineInput readBag(const OfflineRunOptions& options) {
                                 " ns; the first is kept, this one skipped");
           continue;
         }
-        feature_frames.emplace(t, featureFrameOf(value, t));
+        feature_frames.emplace(t, checkedFeatureFrameOf(value, t));
         continue;
       }
       const auto& enc = std::get<std::string>(value["encoding"].value);
