@@ -29,12 +29,18 @@ std::string displayName(const std::string& topic, const QosProfile& qos) {
   return "/" + topic;
 }
 
+// The node's remap rules apply to ROS topics, not to plain DDS ones (ros_discovery_info).
+std::string remapped(const Node& node, const std::string& topic, const QosProfile& qos) {
+  if (qos.avoid_ros_namespace_conventions || topic.empty()) return topic;
+  return node.resolveTopic(topic);
+}
+
 }  // namespace
 
 WriterEndpoint::WriterEndpoint(Node& node, const std::string& ros_topic, TypeSupport type,
                                const std::string& type_hash, const QosProfile& qos)
-      : node_(node.shared_from_this()), ros_topic_(displayName(ros_topic, qos)), qos_(qos) {
-  const std::string dds_topic = ddsTopicFor(ros_topic, qos);
+      : node_(node.shared_from_this()), ros_topic_(displayName(remapped(node, ros_topic, qos), qos)), qos_(qos) {
+  const std::string dds_topic = ddsTopicFor(ros_topic_, qos);
   const bool unbounded = !type->is_bounded();
   const std::string type_name = type.get_type_name();
   node_->participant()->registerType(type);
@@ -99,8 +105,8 @@ bool WriterEndpoint::write(void* sample, std::chrono::milliseconds give_up) {
 
 ReaderEndpoint::ReaderEndpoint(Node& node, const std::string& ros_topic, TypeSupport type,
                                const std::string& type_hash, const QosProfile& qos)
-      : node_(node.shared_from_this()), ros_topic_(displayName(ros_topic, qos)) {
-  const std::string dds_topic = ddsTopicFor(ros_topic, qos);
+      : node_(node.shared_from_this()), ros_topic_(displayName(remapped(node, ros_topic, qos), qos)) {
+  const std::string dds_topic = ddsTopicFor(ros_topic_, qos);
   const bool unbounded = !type->is_bounded();
   const std::string type_name = type.get_type_name();
   node_->participant()->registerType(type);

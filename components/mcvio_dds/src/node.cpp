@@ -2,12 +2,13 @@
 
 #include <stdexcept>
 
+#include "mcvio/core/ros_topic_name.hpp"
 #include "mcvio/dds/topic_names.hpp"
 
 namespace mcvio::dds {
 
-Node::Node(std::shared_ptr<Participant> participant, std::string name, std::string ns)
-    : participant_(std::move(participant)), name_(std::move(name)), ns_(std::move(ns)) {
+Node::Node(std::shared_ptr<Participant> participant, std::string name, std::string ns, TopicRemapping remapping)
+    : participant_(std::move(participant)), name_(std::move(name)), ns_(std::move(ns)), remapping_(std::move(remapping)) {
   validateNodeName(name_);
   if (ns_.empty() || ns_.front() != '/') ns_ = "/" + ns_;
   if (ns_ != "/") validateTopicName(ns_);
@@ -16,6 +17,23 @@ Node::Node(std::shared_ptr<Participant> participant, std::string name, std::stri
 }
 
 Node::~Node() { participant_->removeNode(key_); }
+
+std::string Node::resolveTopic(std::string_view topic) const {
+  const std::string abs = absoluteTopicName(topic);
+  {
+    std::lock_guard<std::mutex> lock(asked_mutex_);
+    asked_.insert(abs);
+  }
+  return remapping_.resolve(abs);
+}
+
+std::vector<std::string> Node::unusedRemapRules() const {
+  std::lock_guard<std::mutex> lock(asked_mutex_);
+  std::vector<std::string> unused;
+  for (const auto& r : remapping_.rules())
+    if (!asked_.count(r.from)) unused.push_back(r.from + ":=" + r.to);
+  return unused;
+}
 
 std::string Node::fullName() const { return ns_ == "/" ? "/" + name_ : ns_ + "/" + name_; }
 

@@ -135,8 +135,8 @@ Participant::~Participant() {
 
 std::vector<std::uint8_t> Participant::gid() const { return gidOf(participant_->guid()); }
 
-std::shared_ptr<Node> Participant::createNode(const std::string& name, const std::string& ns) {
-  return std::make_shared<Node>(shared_from_this(), name, ns);
+std::shared_ptr<Node> Participant::createNode(const std::string& name, const std::string& ns, TopicRemapping remapping) {
+  return std::make_shared<Node>(shared_from_this(), name, ns, std::move(remapping));
 }
 
 void Participant::registerType(TypeSupport type) {

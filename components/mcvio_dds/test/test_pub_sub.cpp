@@ -153,6 +153,29 @@ TEST(PubSub, GenericSubscriptionGetsTheExactCdrBytesAndGraphShowsRosNames) {
   EXPECT_TRUE(std::equal(received[0].begin(), received[0].end(), expected.data));
 }
 
+TEST(PubSub, RemappedNodeUsesTheTargetTopicsOnTheBus) {
+  auto participant = Participant::create(testOptions());
+  // A driver's name on one side, mcvio's on the other: the remapped node talks to the driver.
+  auto driver = participant->createNode("camera_driver");
+  auto remapped = participant->createNode(
+      "frontend", "/mcvio", mcvio::TopicRemapping::parse({"/imu0:=/camera/imu", "/cam9/typo:=/nowhere"}));
+  std::atomic<int> received{0};
+  auto sub = remapped->createSubscription<Imu>("/imu0", QosProfile::defaults(), [&](const Imu&) { ++received; });
+  EXPECT_EQ(sub->topic(), "/camera/imu");
+  auto pub = driver->createPublisher<Imu>("/camera/imu", QosProfile::defaults());
+  auto unmapped_pub = driver->createPublisher<Imu>("/imu0", QosProfile::defaults());
+  ASSERT_TRUE(pub->waitForReaders(1, 5s));
+  EXPECT_EQ(unmapped_pub->matchedReaders(), 0);
+  ASSERT_TRUE(pub->publish(Imu()));
+  ASSERT_TRUE(eventually([&] { return received.load() == 1; }));
+  EXPECT_EQ(remapped->unusedRemapRules(), std::vector<std::string>{"/cam9/typo:=/nowhere"});
+  EXPECT_TRUE(driver->unusedRemapRules().empty());
+  // Publishers are remapped too, and relative names are absolute.
+  auto out = remapped->createPublisher<Imu>("cam9/typo", QosProfile::defaults());
+  EXPECT_EQ(out->topic(), "/nowhere");
+  EXPECT_TRUE(remapped->unusedRemapRules().empty());
+}
+
 TEST(PubSub, LosslessProfileDeliversEverySampleToASlowReader) {
   auto participant = Participant::create(testOptions());
   auto node = participant->createNode("lossless");

@@ -1,7 +1,13 @@
 #pragma once
 #include <functional>
 #include <memory>
+#include <mutex>
+#include <set>
 #include <string>
+#include <string_view>
+#include <vector>
+
+#include "mcvio/core/topic_remapping.hpp"
 
 #include "mcvio/dds/participant.hpp"
 #include "mcvio/dds/qos_profile.hpp"
@@ -19,7 +25,9 @@ struct ReceivedPayload;
 /// Always held by shared_ptr (Participant::createNode): its publishers and subscriptions keep it alive.
 class Node : public std::enable_shared_from_this<Node> {
  public:
-  Node(std::shared_ptr<Participant> participant, std::string name, std::string ns);
+  /// `remapping`: the node's topic remap rules (`-r FROM:=TO`), applied to every ROS topic its
+  /// publishers and subscriptions name.
+  Node(std::shared_ptr<Participant> participant, std::string name, std::string ns, TopicRemapping remapping = {});
   ~Node();
   Node(const Node&) = delete;
   Node& operator=(const Node&) = delete;
@@ -30,6 +38,13 @@ class Node : public std::enable_shared_from_this<Node> {
   std::string fullName() const;
   const std::shared_ptr<Participant>& participant() const { return participant_; }
   const std::string& key() const { return key_; }
+
+  /// The topic a publisher or subscription of this node asking for `topic` uses (remapped).
+  std::string resolveTopic(std::string_view topic) const;
+  const TopicRemapping& remapping() const { return remapping_; }
+  /// Rules whose FROM no publisher or subscription of this node has asked for so far, as
+  /// "FROM:=TO" (a mistyped rule does nothing, so components warn about these once set up).
+  std::vector<std::string> unusedRemapRules() const;
 
   /// Typed publisher of a generated ROS 2 type (see mcvio/interfaces/ros_type_traits.hpp).
   template <class T>
@@ -42,6 +57,9 @@ class Node : public std::enable_shared_from_this<Node> {
  private:
   std::shared_ptr<Participant> participant_;
   std::string name_, ns_, key_;
+  TopicRemapping remapping_;
+  mutable std::mutex asked_mutex_;
+  mutable std::set<std::string> asked_;  ///< topics asked for, before remapping
 };
 
 }  // namespace mcvio::dds

@@ -15,6 +15,8 @@
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
+#include "mcvio/core/topic_remapping.hpp"
+
 namespace mcvio::dds {
 
 /// How to join the DDS bus. Defaults follow ROS 2: domain from ROS_DOMAIN_ID, enclave "/".
@@ -51,7 +53,7 @@ class Participant : public std::enable_shared_from_this<Participant> {
   Participant& operator=(const Participant&) = delete;
 
   /// Adds a ROS 2 node ("frontend", namespace "/") hosted by this participant.
-  std::shared_ptr<Node> createNode(const std::string& name, const std::string& ns = "/");
+  std::shared_ptr<Node> createNode(const std::string& name, const std::string& ns = "/", TopicRemapping remapping = {});
 
   const ParticipantOptions& options() const { return options_; }
   eprosima::fastdds::dds::DomainParticipant* native() const { return participant_; }
