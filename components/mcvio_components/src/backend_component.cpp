@@ -22,6 +22,7 @@ using Imu = sensor_msgs::msg::dds_::Imu_;
 using FeatureFrameMsg = mcvio_msgs::msg::dds_::FeatureFrame_;
 using Odometry = nav_msgs::msg::dds_::Odometry_;
 
+// The names the backend asks for; messages give the remapped ones (imu_topic, features_topic).
 constexpr const char* kImuTopic = "/imu0";
 constexpr const char* kFeaturesTopic = "/mcvio/features";
 
@@ -51,6 +52,7 @@ struct BackendComponent::Impl {
 
   std::shared_ptr<dds::Node> node;
   BackendComponentOptions options;
+  std::string imu_topic, features_topic;  ///< as remapped, for messages
   StereoRigCalibration rig;
   std::unique_ptr<estimator::SlidingWindowEstimator> estimator;
 
@@ -82,7 +84,9 @@ struct BackendComponent::Impl {
   Timestamp warned_waiting_t = -1;  // the frame we said waits for IMU
   std::thread worker;
 
-  Impl(std::shared_ptr<dds::Node> n, BackendComponentOptions o) : node(std::move(n)), options(std::move(o)) {
+  Impl(std::shared_ptr<dds::Node> n, BackendComponentOptions o)
+      : node(std::move(n)), options(std::move(o)), imu_topic(node->resolveTopic(kImuTopic)),
+        features_topic(node->resolveTopic(kFeaturesTopic)) {
     options.validate();
     rig = dataset::EurocFileReader::readCalibration(options.calibration_dir);
     estimator = std::make_unique<estimator::SlidingWindowEstimator>(options.estimator, rig);
@@ -133,7 +137,7 @@ struct BackendComponent::Impl {
     if (why) {
       ++stats.imu_rejected;
       if (worthLogging(stats.imu_rejected)) {
-        std::cerr << "mcvio backend: " << kImuTopic << " sample at " << s.t << " skipped: " << why << " (previous "
+        std::cerr << "mcvio backend: " << imu_topic << " sample at " << s.t << " skipped: " << why << " (previous "
                   << last_imu_t << "; " << stats.imu_rejected << " skipped so far)\n";
       }
       return;
@@ -150,21 +154,21 @@ struct BackendComponent::Impl {
     ++stats.frames_received;
     if (have_frame && p.frame.t <= last_frame_t) {
       ++stats.frames_rejected;
-      std::cerr << "mcvio backend: " << kFeaturesTopic << " frame " << p.frame.frame_index << " at " << p.frame.t
+      std::cerr << "mcvio backend: " << features_topic << " frame " << p.frame.frame_index << " at " << p.frame.t
                 << " skipped: stamp not after the previous frame's (" << last_frame_t << ")\n";
       return;
     }
     if (p.frame.features.empty()) {
       // The estimator decides what such a frame means; say where it came from.
-      std::cerr << "mcvio backend: " << kFeaturesTopic << " frame " << p.frame.frame_index << " at " << p.frame.t
+      std::cerr << "mcvio backend: " << features_topic << " frame " << p.frame.frame_index << " at " << p.frame.t
                 << " has no features\n";
     }
     have_frame = true;
     last_frame_t = p.frame.t;
     if (!options.lossless && frames.size() >= options.max_queued_frames) {
       ++stats.frames_dropped;
-      std::cerr << "mcvio backend: " << kFeaturesTopic << " frame at " << frames.front().frame.t
-                << " dropped: " << frames.size() << " frames wait for " << kImuTopic << " (latest sample "
+      std::cerr << "mcvio backend: " << features_topic << " frame at " << frames.front().frame.t
+                << " dropped: " << frames.size() << " frames wait for " << imu_topic << " (latest sample "
                 << (have_imu ? std::to_string(last_imu_t) : std::string("none")) << ") or for the estimator\n";
       frames.pop_front();
     }
@@ -192,8 +196,8 @@ struct BackendComponent::Impl {
         if (!frames.empty() && frames.front().frame.t != warned_waiting_t &&
             Clock::now() - frames.front().arrival > std::chrono::seconds(5)) {
           warned_waiting_t = frames.front().frame.t;
-          std::cerr << "mcvio backend: " << kFeaturesTopic << " frame at " << warned_waiting_t << " waits for "
-                    << kImuTopic << " to reach its stamp (latest sample "
+          std::cerr << "mcvio backend: " << features_topic << " frame at " << warned_waiting_t << " waits for "
+                    << imu_topic << " to reach its stamp (latest sample "
                     << (have_imu ? std::to_string(last_imu_t) : std::string("none")) << "); " << frames.size()
                     << " frames queued\n";
         }
@@ -221,7 +225,7 @@ struct BackendComponent::Impl {
     const auto e = estimator->addFrame(p.frame);
     const bool publish = e.status == estimator::EstimatorStatus::kTracking && e.frame_accepted;
     if (!e.frame_accepted && e.status != estimator::EstimatorStatus::kNotInitialized) {
-      std::cerr << "mcvio backend: " << kFeaturesTopic << " frame " << p.frame.frame_index << " at " << p.frame.t
+      std::cerr << "mcvio backend: " << features_topic << " frame " << p.frame.frame_index << " at " << p.frame.t
                 << " not used by the estimator: " << e.message << "\n";
     }
     switch (e.status) {

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <map>
 #include <optional>
+#include <set>
 #include <thread>
 
 #include "mcvio/components/playback_pacer.hpp"
@@ -19,6 +20,15 @@ BagPlayer::BagPlayer(std::shared_ptr<dds::Node> node, const std::string& bag, Pl
                      std::vector<std::string> topics)
     : node_(std::move(node)), bag_(bag), options_(options), topic_filter_(std::move(topics)) {
   options_.validate();
+  if (!node_->remapping().empty()) {
+    // A rule for a topic the bag does not hold does nothing: most likely a typo.
+    std::set<std::string> names;
+    const bag::BagReader reader(bag_);  // held: topics() refers into it
+    for (const auto& t : reader.topics()) names.insert(t.name);
+    for (const auto& r : node_->remapping().rules())
+      if (!names.count(r.from))
+        std::cerr << "mcvio play: warning: remap " << r.from << ":=" << r.to << ": " << bag_ << " has no topic " << r.from << "\n";
+  }
 }
 
 BagPlayer::~BagPlayer() = default;
@@ -53,9 +63,11 @@ PlaybackSummary BagPlayer::run() {
   if (options_.wait_for_readers_s > 0 && options_.min_readers > 0) {
     const auto timeout = std::chrono::milliseconds(static_cast<int>(options_.wait_for_readers_s * 1000));
     for (auto& [name, p] : pubs) {
-      const int wanted = options_.min_readers + (options_.extra_readers ? options_.extra_readers(name) : 0);
+      const int wanted = options_.min_readers + (options_.extra_readers ? options_.extra_readers(p->topic()) : 0);
       if (!p->waitForReaders(wanted, timeout) && options_.lossless) {
-        throw std::runtime_error("play: no reader of " + name + "; lossless playback needs its readers first");
+        throw std::runtime_error("play: no reader of " + p->topic() +
+                                 (p->topic() == name ? std::string() : " (the bag's " + name + ")") +
+                                 "; lossless playback needs its readers first");
       }
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int>(options_.settle_s * 1000)));
@@ -103,7 +115,7 @@ PlaybackSummary BagPlayer::run() {
                          " bytes has no CDR header (4 bytes): it cannot be published");
       }
       if (!it->second->publish(m.data)) {
-        throw std::runtime_error("play: a lossless reader of " + m.topic + " stopped taking samples");
+        throw std::runtime_error("play: a lossless reader of " + it->second->topic() + " stopped taking samples");
       }
       ++done;
       if (done % 20 == 0) bar.update(done, std::to_string(done) + " messages");

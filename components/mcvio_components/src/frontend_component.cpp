@@ -41,6 +41,7 @@ struct FrontendComponent::Impl {
   std::unique_ptr<dds::Publisher<Image>> tracks_pub;
   std::unique_ptr<dds::Subscription<Image>> left_sub, right_sub;
   std::unique_ptr<dds::Subscription<Imu>> imu_sub;
+  std::string image_topic[2];  ///< as remapped, for messages
 
   mutable std::mutex mutex;
   std::condition_variable cv;
@@ -54,7 +55,8 @@ struct FrontendComponent::Impl {
   std::thread worker;
 
   explicit Impl(std::shared_ptr<dds::Node> n, FrontendComponentOptions o)
-      : node(std::move(n)), options(std::move(o)), tracker(options.tracker) {
+      : node(std::move(n)), options(std::move(o)), tracker(options.tracker),
+        image_topic{node->resolveTopic("/cam0/image_raw"), node->resolveTopic("/cam1/image_raw")} {
     if (!options.calibration_dir.empty()) {
       tracker.setCalibration(dataset::EurocFileReader::readCalibration(options.calibration_dir));
     } else {
@@ -96,7 +98,7 @@ struct FrontendComponent::Impl {
     std::lock_guard<std::mutex> lock(mutex);
     if (img.empty()) {
       ++stats.bad_images;
-      std::cerr << "mcvio frontend: /cam" << camera << "/image_raw at " << t << " skipped: " << why << "\n";
+      std::cerr << "mcvio frontend: " << image_topic[camera] << " at " << t << " skipped: " << why << "\n";
       return;
     }
     auto& mine = camera == 0 ? left : right;

@@ -10,6 +10,7 @@
 
 #include "mcvio/conflict/conflict_options.hpp"
 #include "mcvio/core/input_error.hpp"
+#include "mcvio/core/topic_remapping.hpp"
 #include "mcvio/core/yaml_fields.hpp"
 #include "mcvio/core/yaml_file.hpp"
 #include "mcvio/dds/topic_names.hpp"
@@ -45,6 +46,24 @@ const std::map<std::string, LaunchPlan::Kind>& kinds() {
                                                             {"backend", LaunchPlan::Kind::kBackend},
                                                             {"recorder", LaunchPlan::Kind::kRecorder}};
   return k;
+}
+
+// ROS 2 launch's `remap:` list: "FROM:=TO" strings or {from: FROM, to: TO} maps.
+TopicRemapping remappingOf(const YAML::Node& list) {
+  if (!list || list.IsNull()) return {};
+  if (!list.IsSequence()) throw InputError("'remap' must be a list of FROM:=TO rules or {from: ..., to: ...} maps");
+  std::vector<std::string> rules;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const YAML::Node r = list[i];
+    if (r.IsScalar()) {
+      rules.push_back(r.Scalar());
+    } else if (r.IsMap() && r.size() == 2 && r["from"] && r["from"].IsScalar() && r["to"] && r["to"].IsScalar()) {
+      rules.push_back(r["from"].Scalar() + ":=" + r["to"].Scalar());
+    } else {
+      throw InputError("remap[" + std::to_string(i) + "] must be FROM:=TO or a map with exactly 'from' and 'to'");
+    }
+  }
+  return TopicRemapping::parse(rules);
 }
 
 }  // namespace
@@ -302,6 +321,11 @@ LaunchPlan::Entry LaunchFile::entry(const YAML::Node& raw, std::size_t index, co
     f.get("namespace", &e.node_namespace);
     if (e.node_namespace.empty() || e.node_namespace[0] != '/') fail("namespace '" + e.node_namespace + "' must start with '/'");
     dds::validateNodeName(e.name);
+    if (f.has("remap")) {
+      if (e.kind == LaunchPlan::Kind::kRecorder)
+        fail("'remap' is for players, frontends and backends: a recorder records topics under their own names");
+      e.remapping = remappingOf(node["remap"]);
+    }
     f.get("respawn", &e.respawn);
     f.get("respawn_delay", &e.respawn_delay_s);
     if (!(e.respawn_delay_s >= 0 && e.respawn_delay_s <= 3600)) fail("'respawn_delay' must be in [0, 3600] seconds");
@@ -400,7 +424,8 @@ LaunchPlan::Entry LaunchFile::entry(const YAML::Node& raw, std::size_t index, co
 
 std::string LaunchFile::keysHelp() {
   return "Keys of every component: component (player, frontend, backend, recorder), name (node name, default: the\n"
-         "kind), namespace (default /mcvio), if / unless (true or false); frontends and backends also respawn\n"
+         "kind), namespace (default /mcvio), if / unless (true or false), remap (not recorders: a list of\n"
+         "FROM:=TO or {from: FROM, to: TO}, ROS 2's topic remapping); frontends and backends also respawn\n"
          "(true: with --processes, start it again when it ends while the launch runs) and respawn_delay (s).\n"
          "  player    input (EuRoC folder or bag, required), topics (bags: a list), rate, lossless, loop, start,\n"
          "            duration, max_gap, wait_for_readers, progress\n"

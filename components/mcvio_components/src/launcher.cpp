@@ -59,6 +59,11 @@ Launcher::Result Launcher::run(const Control& control) {
   const auto say = [this](const std::string& line) {
     if (log_) *log_ << "mcvio launch: " << line << "\n" << std::flush;
   };
+  // A remap rule that matched none of a component's topics does nothing: most likely a typo.
+  const auto warnUnusedRules = [&say](const dds::Node& node, const std::string& name) {
+    for (const auto& rule : node.unusedRemapRules())
+      say("warning: component '" + name + "': remap " + rule + " matches none of its topics");
+  };
   // One slot per entry; declared so that destruction runs components, then participants, then the
   // recorders' graph monitors (a participant's listener must outlive it).
   struct Slot {
@@ -109,22 +114,28 @@ Launcher::Result Launcher::run(const Control& control) {
             s.recording = true;
             say("recorder '" + e.name + "' writing " + e.output + " (" + e.recorder.bag.storage + ")");
             break;
-          case Kind::kFrontend:
+          case Kind::kFrontend: {
             s.participant = participantFor(e, nullptr);
-            s.frontend = std::make_unique<FrontendComponent>(s.participant->createNode(e.name, e.node_namespace), e.frontend);
-            say("frontend '" + e.name + "' tracking /cam0/image_raw + /cam1/image_raw (calibration " +
-                e.frontend.calibration_dir + ")");
+            auto node = s.participant->createNode(e.name, e.node_namespace, e.remapping);
+            s.frontend = std::make_unique<FrontendComponent>(node, e.frontend);
+            say("frontend '" + e.name + "' tracking " + node->resolveTopic("/cam0/image_raw") + " + " +
+                node->resolveTopic("/cam1/image_raw") + " (calibration " + e.frontend.calibration_dir + ")");
+            warnUnusedRules(*node, e.name);
             break;
-          case Kind::kBackend:
+          }
+          case Kind::kBackend: {
             s.participant = participantFor(e, nullptr);
-            s.backend = std::make_unique<BackendComponent>(s.participant->createNode(e.name, e.node_namespace), e.backend);
+            auto node = s.participant->createNode(e.name, e.node_namespace, e.remapping);
+            s.backend = std::make_unique<BackendComponent>(node, e.backend);
+            warnUnusedRules(*node, e.name);
             say("backend '" + e.name + "' estimating, mode " +
                 std::string(conflict::toString(e.backend.estimator.conflict.mode)) + " (calibration " +
                 e.backend.calibration_dir + ")");
             break;
+          }
           case Kind::kPlayer: {
             s.participant = participantFor(e, nullptr);
-            auto node = s.participant->createNode(e.name, e.node_namespace);
+            auto node = s.participant->createNode(e.name, e.node_namespace, e.remapping);
             if (bag::BagReader::looksLikeBag(e.input)) {
               s.bag_player = std::make_unique<BagPlayer>(node, e.input, e.player, e.topics);
               say("player '" + e.name + "' playing the bag " + e.input);
@@ -140,7 +151,7 @@ Launcher::Result Launcher::run(const Control& control) {
               // A player waits for a reader of every topic it plays (a lossless one fails without);
               // the components read the calibration folder, not camera_info, and only a recorder
               // may want the ground truth: without these it would wait wait_for_readers per topic.
-              auto readers = s.participant->createNode(e.name + "_sinks", e.node_namespace);
+              auto readers = s.participant->createNode(e.name + "_sinks", e.node_namespace, e.remapping);
               const auto q = dds::QosProfile::lossless();
               s.stand_ins.push_back(readers->createSubscription<sensor_msgs::msg::dds_::CameraInfo_>(
                   "/cam0/camera_info", q, [](const auto&) {}));
@@ -149,6 +160,7 @@ Launcher::Result Launcher::run(const Control& control) {
               s.stand_ins.push_back(readers->createSubscription<nav_msgs::msg::dds_::Odometry_>(
                   "/ground_truth/odometry", q, [](const auto&) {}));
             }
+            warnUnusedRules(*node, e.name);
             say("player '" + e.name + "' playing " + e.input + " (" + std::to_string(s.data->stereoFrames().size()) +
                 " stereo frames" + (e.player.lossless ? ", lossless" : "") + ")");
             break;

@@ -111,8 +111,8 @@ PlaybackSummary Player::run() {
         // The events are sorted, so only gaps need handling here.
         const auto step = pacer.next(it->t);
         if (step.skipped_s > 0) {
-          static const char* const kTopic[] = {"/cam0/image_raw", "/imu0", "/ground_truth/odometry"};
-          std::cerr << "mcvio play: warning: " << data_.root() << ": topic " << kTopic[it->kind] << ", event "
+          const dds::WriterEndpoint* const by_kind[] = {pubs_->image[0].get(), pubs_->imu.get(), pubs_->ground_truth.get()};
+          std::cerr << "mcvio play: warning: " << data_.root() << ": topic " << by_kind[it->kind]->topic() << ", event "
                     << done + 1 << " of " << total << " at " << it->t << " ns: "
                     << PlaybackPacer::describe(step, options_.max_gap_s) << "\n";
           ++summary.shortened_gaps;

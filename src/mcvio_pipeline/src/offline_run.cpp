@@ -109,8 +109,17 @@ OfflineInput readBag(const OfflineRunOptions& options) {
   }
   OfflineInput in;
   in.calibration = dataset::EurocFileReader::readCalibration(options.calibration_dir);
+  // The bag's names for what the run reads (--remap /imu0:=/camera/imu).
+  const std::string cam0 = options.remapping.resolve("/cam0/image_raw"), cam1 = options.remapping.resolve("/cam1/image_raw");
+  const std::string imu = options.remapping.resolve("/imu0"), features = options.remapping.resolve(kFeaturesTopic);
+  for (const auto& r : options.remapping.rules()) {
+    if (r.from != "/cam0/image_raw" && r.from != "/cam1/image_raw" && r.from != "/imu0" && r.from != kFeaturesTopic)
+      throw InputError("--remap " + r.from + ":=" + r.to + ": `mcvio run` reads /cam0/image_raw, /cam1/image_raw, /imu0 and " +
+                       kFeaturesTopic + " from a bag; " + r.from + " is none of them");
+  }
+  if (cam0 == cam1) throw InputError("--remap: /cam0/image_raw and /cam1/image_raw are both " + cam0 + "; the left and right images need a topic each");
   bag::BagReaderOptions ro;
-  ro.topics = {"/cam0/image_raw", "/cam1/image_raw", "/imu0", kFeaturesTopic};
+  ro.topics = {cam0, cam1, imu, features};
   bag::BagReader reader(options.dataset_dir, ro);
   // metadata.yaml disagreeing with the storage, an unknown sqlite3 schema version, a topic that
   // is not CDR: the run goes on, and says so like `mcvio play` does.
@@ -131,24 +140,23 @@ OfflineInput readBag(const OfflineRunOptions& options) {
   }
   // Images and IMU run the whole pipeline; without images, the frontend's recorded output and
   // the IMU run the estimator alone.
-  const bool from_features = !(defs.count("/cam0/image_raw") && defs.count("/cam1/image_raw")) && defs.count(kFeaturesTopic);
+  const bool from_features = !(defs.count(cam0) && defs.count(cam1)) && defs.count(features);
   const std::vector<std::string> needed =
-      from_features ? std::vector<std::string>{kFeaturesTopic, "/imu0"}
-                    : std::vector<std::string>{"/cam0/image_raw", "/cam1/image_raw", "/imu0"};
+      from_features ? std::vector<std::string>{features, imu} : std::vector<std::string>{cam0, cam1, imu};
   for (const auto& topic : needed) {
     if (defs.count(topic)) continue;
     std::string held;
     const bag::BagReader every_topic(options.dataset_dir);
     for (const auto& t : every_topic.topics()) held += (held.empty() ? "" : ", ") + t.name;
     throw InputError(options.dataset_dir + ": the bag has no " + topic + " (it holds " +
-                     (held.empty() ? std::string("no topics") : held) +
-                     "); `mcvio run` needs /cam0/image_raw, /cam1/image_raw and /imu0, or " + kFeaturesTopic +
-                     " and /imu0 to run the estimator alone");
+                     (held.empty() ? std::string("no topics") : held) + "); `mcvio run` needs " + cam0 + ", " + cam1 +
+                     " and " + imu + ", or " + features + " and " + imu +
+                     " to run the estimator alone (--remap /imu0:=TOPIC names another topic)");
   }
   if (from_features) {
     for (const auto& t : reader.topics())
-      if (t.name == kFeaturesTopic && t.type != "mcvio_msgs/msg/FeatureFrame")
-        throw InputError(options.dataset_dir + ": topic " + kFeaturesTopic + " has type " + t.type +
+      if (t.name == features && t.type != "mcvio_msgs/msg/FeatureFrame")
+        throw InputError(options.dataset_dir + ": topic " + features + " has type " + t.type +
                          ", not mcvio_msgs/msg/FeatureFrame");
   }
   std::map<Timestamp, FeatureFrame> feature_frames;
@@ -157,7 +165,7 @@ OfflineInput readBag(const OfflineRunOptions& options) {
   bag::BagMessage m;
   while (reader.next(m)) {
     // Only the topics this run reads are decoded.
-    if ((m.topic == kFeaturesTopic) != from_features && m.topic != "/imu0") continue;
+    if ((m.topic == features) != from_features && m.topic != imu) continue;
     try {
       const auto value = rosmsg::CdrCodec(*defs[m.topic]).decode(m.data);
       const Timestamp t = stampOf(value);
@@ -168,7 +176,7 @@ OfflineInput readBag(const OfflineRunOptions& options) {
                               std::to_string(last->second) + " ns on this topic");
       }
       last_stamp[m.topic] = std::max(t, last == last_stamp.end() ? t : last->second);
-      if (m.topic == "/imu0") {
+      if (m.topic == imu) {
         ImuSample s;
         s.t = t;
         s.gyro = {number(value["angular_velocity"]["x"]), number(value["angular_velocity"]["y"]), number(value["angular_velocity"]["z"])};
@@ -176,7 +184,7 @@ OfflineInput readBag(const OfflineRunOptions& options) {
         in.imu.push_back(s);
         continue;
       }
-      if (m.topic == kFeaturesTopic) {
+      if (m.topic == features) {
         if (feature_frames.count(t)) {
           in.warnings.push_back(reader.where(m) + ": a second feature frame with header stamp " + std::to_string(t) +
                                 " ns; the first is kept, this one skipped");
@@ -196,7 +204,7 @@ OfflineInput readBag(const OfflineRunOptions& options) {
                               " bytes), skipped");
         continue;
       }
-      cv::Mat& slot = m.topic == "/cam0/image_raw" ? frames[t].first : frames[t].second;
+      cv::Mat& slot = m.topic == cam0 ? frames[t].first : frames[t].second;
       if (!slot.empty()) {
         in.warnings.push_back(reader.where(m) + ": a second image with header stamp " + std::to_string(t) +
                               " ns on this topic; the first is kept, this one skipped");
@@ -546,6 +554,8 @@ OfflineRunSummary runOffline(const OfflineRunOptions& options) {
   makeOutputFolder(options.output_dir);
   const fs::path p(options.dataset_dir);
   const bool is_bag = bag::BagReader::looksLikeBag(p);
+  if (!is_bag && !options.remapping.empty())
+    throw InputError("--remap names a bag's topics; " + options.dataset_dir + " is a EuRoC folder (mav0/), not a bag");
   return runOffline(is_bag ? readBag(options) : readEuroc(options), options);
 }
 

@@ -11,6 +11,7 @@ namespace mcvio::cli {
 void addBackendCommand(CLI::App& app, CommandContext& ctx) {
   struct Options {
     std::string calib, config, mode;
+    std::vector<std::string> remap;
     components::BackendComponentOptions component;
   };
   auto opt = std::make_shared<Options>();
@@ -30,6 +31,7 @@ void addBackendCommand(CLI::App& app, CommandContext& ctx) {
       "  mcvio backend --calib ../shared/data/euroc_V1_01_excerpt\n"
       "  mcvio backend --calib /tmp/elevator --config my_vio.yaml --mode reference --lossless\n"
       "  mcvio backend --calib /tmp/elevator --path-max 0 --landmarks-every 5 --world-frame odom\n"
+      "  mcvio backend --calib DIR --remap /imu0:=/camera/imu --remap /mcvio/odometry:=/odom\n"
       "A lossless pipeline (a lossless player needs a reader of every topic it plays, e.g. the recorder):\n"
       "  mcvio backend --calib DIR --lossless &  mcvio frontend --calib DIR --lossless &\n"
       "  mcvio record -o /tmp/rec --all &  mcvio play DIR --lossless");
@@ -67,13 +69,17 @@ void addBackendCommand(CLI::App& app, CommandContext& ctx) {
                   "without --lossless: a frame waits at most this long for /imu0 to reach its stamp [s]")
       ->check(finiteAtLeastZero())
       ->capture_default_str();
+  addRemapOption(cmd, opt->remap, "/imu0:=/camera/imu");
   cmd->callback([opt, &ctx] {
+    const auto remapping = TopicRemapping::parse(opt->remap);
     auto o = opt->component;
     o.calibration_dir = opt->calib;
     if (!opt->config.empty()) o.estimator = pipeline::VioPipelineOptions::fromYamlFile(opt->config).estimator;
     if (!opt->mode.empty()) o.estimator.conflict.mode = conflict::resolutionModeFromString(opt->mode, "--mode");
     auto participant = dds::Participant::create(ctx.participantOptions("mcvio_backend"));
-    components::BackendComponent backend(participant->createNode("backend", "/mcvio"), o);
+    auto node = participant->createNode("backend", "/mcvio", remapping);
+    components::BackendComponent backend(node, o);
+    warnUnusedRemapRules(*node, "backend");
     std::cerr << "mcvio backend: running; Ctrl-C to stop\n";
     while (!dds::ShutdownSignal::waitFor(std::chrono::seconds(1))) {
     }

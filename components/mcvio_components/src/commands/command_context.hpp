@@ -1,9 +1,12 @@
 #pragma once
 #include <cmath>
+#include <iostream>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "mcvio/dds/node.hpp"
 #include "mcvio/dds/participant.hpp"
 
 namespace mcvio::cli {
@@ -50,6 +53,22 @@ inline CLI::Validator finiteAtLeastZero(bool zero_allowed = true) {
         return {};
       },
       zero_allowed ? "NUMBER >= 0" : "NUMBER > 0");
+}
+
+/// `--remap FROM:=TO` (repeatable): ROS 2 topic remapping for the component the command runs.
+inline CLI::Option* addRemapOption(CLI::App* cmd, std::vector<std::string>& rules, const std::string& example) {
+  return cmd->add_option("--remap", rules,
+                         "FROM:=TO: use topic TO wherever this component would use FROM (ROS 2's remapping, as\n"
+                         "`ros2 run ... --ros-args -r FROM:=TO`); repeat for more topics, e.g.\n  --remap " + example)
+      ->type_name("FROM:=TO")
+      ->take_all()
+      ->allow_extra_args(false);
+}
+
+/// A remap rule that matched none of the component's topics does nothing: most likely a typo.
+inline void warnUnusedRemapRules(const dds::Node& node, const std::string& command) {
+  for (const auto& rule : node.unusedRemapRules())
+    std::cerr << "mcvio " << command << ": warning: --remap " << rule << " matches none of its topics\n";
 }
 
 /// Thrown by a command to end with `code` after printing `what()` (if not empty) to stderr.

@@ -11,6 +11,7 @@ void addFrontendCommand(CLI::App& app, CommandContext& ctx) {
   struct Options {
     std::string calib, config;
     bool tracks_image = false, lossless = false;
+    std::vector<std::string> remap;
   };
   auto opt = std::make_shared<Options>();
   auto* cmd = app.add_subcommand(
@@ -20,19 +21,27 @@ void addFrontendCommand(CLI::App& app, CommandContext& ctx) {
       "disagree with the dominant motion (labelled inconsistent) for the backend's conflict detection.\n"
       "Examples:\n"
       "  mcvio frontend --calib ../shared/data/euroc_V1_01_excerpt --tracks-image\n"
-      "  mcvio frontend --calib /tmp/elevator --config config/frontend.yaml --lossless");
+      "  mcvio frontend --calib /tmp/elevator --config config/frontend.yaml --lossless\n"
+      "  mcvio frontend --calib DIR --remap /cam0/image_raw:=/camera/infra1/image_rect_raw \\\n"
+      "    --remap /cam1/image_raw:=/camera/infra2/image_rect_raw --remap /imu0:=/camera/imu   # a driver's topics\n"
+      "Images may be mono8, mono16, rgb8, bgr8, rgba8, bgra8, Bayer (bayer_rggb8, ...) or yuv422; they\n"
+      "are tracked as 8-bit grey.");
   cmd->add_option("--calib", opt->calib, "EuRoC folder with cam0/cam1 sensor.yaml (stereo calibration)");
   cmd->add_option("--config", opt->config, "YAML with frontend options (see config/frontend.yaml)");
   cmd->add_flag("--tracks-image", opt->tracks_image, "also publish /mcvio/tracks_image (rgb8) for RViz/Foxglove");
   cmd->add_flag("--lossless", opt->lossless, "reliable keep-all topics, for lossless offline pipelines");
+  addRemapOption(cmd, opt->remap, "/imu0:=/camera/imu");
   cmd->callback([opt, &ctx] {
+    const auto remapping = TopicRemapping::parse(opt->remap);
     components::FrontendComponentOptions o;
     if (!opt->config.empty()) o.tracker = frontend::FrontendOptions::fromFile(opt->config);
     o.calibration_dir = opt->calib;
     o.publish_tracks_image = opt->tracks_image;
     o.lossless = opt->lossless;
     auto participant = dds::Participant::create(ctx.participantOptions("mcvio_frontend"));
-    components::FrontendComponent frontend(participant->createNode("frontend", "/mcvio"), o);
+    auto node = participant->createNode("frontend", "/mcvio", remapping);
+    components::FrontendComponent frontend(node, o);
+    warnUnusedRemapRules(*node, "frontend");
     std::cerr << "mcvio frontend: running; Ctrl-C to stop\n";
     while (!dds::ShutdownSignal::waitFor(std::chrono::seconds(1))) {
     }

@@ -1,8 +1,7 @@
+#include <filesystem>
 #include <iostream>
 
 #include "commands/command_context.hpp"
-#include <filesystem>
-
 #include "mcvio/bag/bag_reader.hpp"
 #include "mcvio/components/bag_player.hpp"
 #include "mcvio/components/player.hpp"
@@ -14,7 +13,7 @@ namespace mcvio::cli {
 void addPlayCommand(CLI::App& app, CommandContext& ctx) {
   struct Options {
     std::string dataset;
-    std::vector<std::string> topics;
+    std::vector<std::string> topics, remap;
     components::PlayerOptions player;
     bool quiet = false;
   };
@@ -28,7 +27,8 @@ void addPlayCommand(CLI::App& app, CommandContext& ctx) {
       "  mcvio play ../shared/data/euroc_V1_01_excerpt --rate 2\n"
       "  mcvio play /data/sim_elevator --lossless        # as fast as readers allow, nothing lost\n"
       "  mcvio play /tmp/run.bag --topics /imu0 --rate 0.5  # a recorded bag, original timing\n"
-      "  mcvio play /tmp/run.bag --max-gap 1   # pauses over 1 s of data take 1 s (0 keeps them)");
+      "  mcvio play /tmp/run.bag --max-gap 1   # pauses over 1 s of data take 1 s (0 keeps them)\n"
+      "  mcvio play /tmp/driver.bag --remap /camera/imu:=/imu0   # publish a bag topic under another name");
   cmd->add_option("dataset", opt->dataset, "EuRoC folder (holding mav0/), or a rosbag2 bag (directory with metadata.yaml, .mcap, .db3)")->required();
   cmd->add_option("--topics", opt->topics, "bags only: play just these topics");
   cmd->add_option("-r,--rate", opt->player.rate, "playback speed relative to real time")->capture_default_str();
@@ -46,7 +46,9 @@ void addPlayCommand(CLI::App& app, CommandContext& ctx) {
                   "seconds to wait for a reader on every topic before starting (lossless fails without)")
       ->capture_default_str();
   cmd->add_flag("-q,--quiet", opt->quiet, "no progress bar");
+  addRemapOption(cmd, opt->remap, "/imu0:=/camera/imu (a bag: FROM is the bag's topic)");
   cmd->callback([opt, &ctx] {
+    const auto remapping = TopicRemapping::parse(opt->remap);
     namespace fs = std::filesystem;
     const auto gaps = [](const components::PlaybackSummary& s) {
       return s.shortened_gaps ? ", " + std::to_string(s.shortened_gaps) + " long gaps shortened by " +
@@ -59,7 +61,8 @@ void addPlayCommand(CLI::App& app, CommandContext& ctx) {
     opt->player.validate();
     if (is_bag) {
       auto participant = dds::Participant::create(ctx.participantOptions("mcvio_player"));
-      components::BagPlayer player(participant->createNode("player", "/mcvio"), opt->dataset, opt->player, opt->topics);
+      auto node = participant->createNode("player", "/mcvio", remapping);
+      components::BagPlayer player(node, opt->dataset, opt->player, opt->topics);
       const auto s = player.run();
       std::cerr << "mcvio play: " << s.messages << " messages in " << s.wall_seconds << " s ("
                 << s.data_seconds << " s of recording)" << gaps(s) << (s.interrupted ? ", interrupted" : "") << "\n";
@@ -70,8 +73,9 @@ void addPlayCommand(CLI::App& app, CommandContext& ctx) {
     const auto data = dataset::EurocDataset::open(opt->dataset);
     for (const auto& w : data.warnings()) std::cerr << "mcvio play: warning: " << w << "\n";
     auto participant = dds::Participant::create(ctx.participantOptions("mcvio_player"));
-    auto node = participant->createNode("player", "/mcvio");
+    auto node = participant->createNode("player", "/mcvio", remapping);
     components::Player player(node, data, opt->player);
+    warnUnusedRemapRules(*node, "play");
     const auto s = player.run();
     std::cerr << "mcvio play: " << s.frames << " stereo frames, " << s.imu_samples << " IMU samples, " << s.ground_truth
               << " ground-truth poses in " << s.wall_seconds << " s (" << s.data_seconds << " s of data)"

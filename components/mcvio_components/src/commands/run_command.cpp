@@ -10,6 +10,7 @@ namespace mcvio::cli {
 void addRunCommand(CLI::App& app, CommandContext&) {
   auto opt = std::make_shared<pipeline::OfflineRunOptions>();
   auto quiet = std::make_shared<bool>(false);
+  auto remap = std::make_shared<std::vector<std::string>>();
   auto* cmd = app.add_subcommand(
       "run",
       "Run the whole VIO (frontend + sliding-window estimator) over a EuRoC folder without DDS,\n"
@@ -30,7 +31,12 @@ void addRunCommand(CLI::App& app, CommandContext&) {
       "A bag with /mcvio/features (the frontend's output) and /imu0 but no images runs the estimator alone\n"
       "on the recorded features: on the bag of `mcvio demo` it gives exactly what the DDS backend published,\n"
       "and other modes or options can be tried on the same input:\n"
-      "  mcvio run --dataset /tmp/mcvio_demo/elevator/bag --calib /tmp/mcvio_demo/elevator/data --mode reference --out /tmp/ref");
+      "  mcvio run --dataset /tmp/mcvio_demo/elevator/bag --calib /tmp/mcvio_demo/elevator/data --mode reference --out /tmp/ref\n"
+      "A bag from other drivers: --remap names its topics; images may be mono8, mono16, rgb8, bgr8, rgba8,\n"
+      "bgra8, Bayer or yuv422 (tracked as 8-bit grey):\n"
+      "  mcvio run --dataset /data/d435i_bag --calib /data/d435i_euroc --out /tmp/d435i \\\n"
+      "    --remap /cam0/image_raw:=/camera/infra1/image_rect_raw --remap /cam1/image_raw:=/camera/infra2/image_rect_raw \\\n"
+      "    --remap /imu0:=/camera/imu");
   cmd->add_option("--dataset", opt->dataset_dir,
                   "EuRoC folder (holding mav0/), or a rosbag2 bag with /cam0/image_raw, /cam1/image_raw, /imu0\n"
                   "(or with /mcvio/features and /imu0: the estimator alone)")
@@ -49,8 +55,11 @@ void addRunCommand(CLI::App& app, CommandContext&) {
                   "default: the config's estimator.conflict.mode, else reference")
       ->check(CLI::IsMember({"reference", "imu", "selective", "auto"}));
   cmd->add_flag("-q,--quiet", *quiet, "no progress bar");
-  cmd->callback([opt, quiet] {
+  addRemapOption(cmd, *remap, "/imu0:=/camera/imu (bags only: which bag topic is /cam0/image_raw, /cam1/image_raw,\n"
+                              "  /imu0 or /mcvio/features)");
+  cmd->callback([opt, quiet, remap] {
     opt->progress = !*quiet;
+    opt->remapping = TopicRemapping::parse(*remap);
     // Bags from before Iron (sqlite3 without message_definitions) are read with these.
     for (const auto& d : interfaces::MessageRegistry::all())
       opt->known_message_definitions.emplace(std::string(d.name), std::string(d.full_definition));

@@ -6,6 +6,7 @@
 #include "mcvio/components/frontend_component.hpp"
 #include "mcvio/components/player.hpp"
 #include "mcvio/components/recorder.hpp"
+#include "mcvio/core/topic_remapping.hpp"
 
 namespace mcvio::components {
 
@@ -19,6 +20,8 @@ struct LaunchPlan {
     Kind kind = Kind::kPlayer;
     std::string name;                 ///< node name, unique in the plan (default: the kind)
     std::string node_namespace = "/mcvio";
+    /// `remap:` rules of the component's node (not recorders).
+    TopicRemapping remapping;
     /// With `mcvio launch --processes`: a frontend or backend that ends while the launch runs is
     /// started again after respawn_delay_s, as ROS 2 launch's `respawn` does (in one process a
     /// crash ends the whole launch). One that then exits before it is listening fails the launch.

@@ -10,6 +10,7 @@
 #include <opencv2/core/mat.hpp>
 
 #include "mcvio/core/feature_frame.hpp"
+#include "mcvio/core/topic_remapping.hpp"
 #include "mcvio/pipeline/vio_pipeline.hpp"
 
 namespace mcvio::pipeline {
@@ -39,6 +40,9 @@ struct OfflineRunOptions {
   /// for bag topics that carry none: rosbag2 sqlite3 files before Iron have no
   /// message_definitions table. `mcvio run` fills it with the built-in types.
   std::map<std::string, std::string> known_message_definitions;
+  /// Bags: which of the bag's topics stand for /cam0/image_raw, /cam1/image_raw, /imu0 and
+  /// /mcvio/features (`--remap /imu0:=/camera/imu`); a EuRoC folder takes none.
+  TopicRemapping remapping;
 };
 
 /// Thrown by runOffline() when options.stop_requested said so.
