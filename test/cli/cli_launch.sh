@@ -3,7 +3,8 @@
 # lossless player -> frontend -> backend -> recorder launch to the end (every frame handled, the
 # poses in the bag), in one process and with --processes (one per component: the same bag
 # contents; a killed backend respawned), stops cleanly on Ctrl-C with the bag closed, and bad
-# launch input is named.
+# launch input is named. Remapped onto a camera driver's topic names the same launch gives the
+# same poses, and `mcvio run --remap` on its bag gives those of the EuRoC folder.
 set -u
 mcvio=$1
 file="$(cd "$(dirname "$0")/../.." && pwd)/config/pipeline.yaml"
@@ -31,6 +32,60 @@ expect_timeout=120 expect 0 "frontend 'frontend': 61 stereo pairs, 61 feature fr
 poses=$("$mcvio" bag info "$tmp/bag" | grep -F 'Topic: /mcvio/odometry |' | sed -nE 's/.*Count: ([0-9]+).*/\1/p')
 if [ "${poses:-0}" -gt 0 ]; then echo "ok: the bag holds $poses poses"; else echo "FAIL: no /mcvio/odometry in the launch's bag"; failed=1; fi
 expect 2 "$tmp/bag: exists and is not an empty directory" -- "$mcvio" --domain "$domain" launch "$file" data:="$tmp/seq" record:=true bag:="$tmp/bag"
+
+# The same pipeline on a driver's topic names (remap: in the launch file, both forms), a typo
+# warned about; the bag holds the driver's names, and `mcvio run --remap` on it gives the poses
+# of `mcvio run` on the EuRoC folder.
+cat > "$tmp/remap.yaml" <<'YAML'
+arguments:
+  data: {description: "EuRoC folder"}
+  bag: {description: "bag to record"}
+components:
+  - component: recorder
+    output: $(arg bag)
+    regex: "^/(driver/.*|odom)$"
+  - component: frontend
+    calibration: $(arg data)
+    lossless: true
+    remap:
+      - /cam0/image_raw:=/driver/left/image_raw
+      - {from: /cam1/image_raw, to: /driver/right/image_raw}
+      - /imu0:=/driver/imu
+  - component: backend
+    calibration: $(arg data)
+    lossless: true
+    remap: [/imu0:=/driver/imu, /mcvio/odometry:=/odom, /mcvio/odometri:=/x]
+  - component: player
+    input: $(arg data)
+    lossless: true
+    remap: [/cam0/image_raw:=/driver/left/image_raw, /cam1/image_raw:=/driver/right/image_raw, /imu0:=/driver/imu,
+            /cam0/camera_info:=/driver/left/camera_info, /cam1/camera_info:=/driver/right/camera_info]
+YAML
+expect_timeout=120 expect 0 "component 'backend': remap /mcvio/odometri:=/x matches none of its topics" -- \
+  "$mcvio" --domain "$domain" launch "$tmp/remap.yaml" data:="$tmp/seq" bag:="$tmp/rbag" -q
+remapped_poses=$("$mcvio" bag info "$tmp/rbag" | grep -F 'Topic: /odom |' | sed -nE 's/.*Count: ([0-9]+).*/\1/p')
+if [ "${remapped_poses:-0}" -gt 0 ] && [ "$remapped_poses" = "$poses" ] && "$mcvio" bag info "$tmp/rbag" | grep -qF 'Topic: /driver/imu |' &&
+   ! "$mcvio" bag info "$tmp/rbag" | grep -qF 'Topic: /imu0 |'; then
+  echo "ok: the remapped launch published $remapped_poses poses on /odom and the driver's topics"
+else
+  echo "FAIL: the remapped launch's bag:"; "$mcvio" bag info "$tmp/rbag" | grep -F Topic; failed=1
+fi
+expect 0 "poses" -- "$mcvio" run --dataset "$tmp/seq" --out "$tmp/run_euroc" -q
+expect 0 "poses" -- "$mcvio" run --dataset "$tmp/rbag" --calib "$tmp/seq" --out "$tmp/run_rbag" -q \
+  --remap /cam0/image_raw:=/driver/left/image_raw --remap /cam1/image_raw:=/driver/right/image_raw --remap /imu0:=/driver/imu
+if [ -s "$tmp/run_euroc/trajectory.tum" ] && cmp -s "$tmp/run_euroc/trajectory.tum" "$tmp/run_rbag/trajectory.tum"; then
+  echo "ok: mcvio run --remap on the driver-named bag gives the EuRoC folder's trajectory"
+else
+  echo "FAIL: mcvio run --remap on the driver-named bag differs from the EuRoC run"; failed=1
+fi
+expect 2 "the bag has no /cam0/image_raw (it holds /odom, /driver/imu" -- "$mcvio" run --dataset "$tmp/rbag" --calib "$tmp/seq" --out "$tmp/run_rbag2" -q
+expect 2 "--remap names a bag's topics; $tmp/seq is a EuRoC folder" -- \
+  "$mcvio" run --dataset "$tmp/seq" --out "$tmp/run_r3" -q --remap /imu0:=/driver/imu
+expect 2 "remap rule '/imu0': expected FROM:=TO" -- "$mcvio" --domain "$domain" backend --calib "$tmp/seq" --remap /imu0
+printf 'components:\n  - component: recorder\n    output: %s\n    all: true\n    remap: [/a:=/b]\n' "$tmp/nobag" > "$tmp/rrec.yaml"
+expect 2 "'remap' is for players, frontends and backends" -- "$mcvio" --domain "$domain" launch "$tmp/rrec.yaml"
+printf 'components:\n  - component: backend\n    calibration: %s\n    remap: [{from: /imu0}]\n' "$tmp/seq" > "$tmp/rbad.yaml"
+expect 2 "remap[0] must be FROM:=TO or a map with exactly 'from' and 'to'" -- "$mcvio" --domain "$domain" launch "$tmp/rbad.yaml"
 
 # One process per component: every process ends cleanly and the bag holds what the in-process
 # launch recorded, topic by topic.

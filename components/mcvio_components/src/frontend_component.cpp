@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <chrono>
-
 #include <iostream>
 
 #include "mcvio/components/ros_conversions.hpp"
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/dataset/euroc_file_reader.hpp"
+#include "mcvio/dataset/sensor_image.hpp"
 #include "mcvio/frontend/track_drawer.hpp"
 
 namespace mcvio::components {
@@ -17,18 +17,11 @@ using Image = sensor_msgs::msg::dds_::Image_;
 using Imu = sensor_msgs::msg::dds_::Imu_;
 using FeatureFrameMsg = mcvio_msgs::msg::dds_::FeatureFrame_;
 
-// A mono8 view of the message's pixels; empty with a reason for anything else.
+// The grey image the tracker takes, from any common encoding; empty with a reason otherwise.
 cv::Mat imageOf(const Image& msg, std::string* why) {
-  if (msg.encoding() != "mono8" && msg.encoding() != "8UC1") {
-    *why = "encoding '" + msg.encoding() + "' (mono8 expected)";
-    return {};
-  }
-  if (msg.step() < msg.width() || msg.data().size() < static_cast<std::size_t>(msg.step()) * msg.height()) {
-    *why = "data holds " + std::to_string(msg.data().size()) + " bytes, less than step*height";
-    return {};
-  }
-  return cv::Mat(static_cast<int>(msg.height()), static_cast<int>(msg.width()), CV_8UC1,
-                 const_cast<std::uint8_t*>(msg.data().data()), msg.step()).clone();
+  return dataset::greyImageOf({msg.encoding(), msg.width(), msg.height(), msg.step(), msg.is_bigendian() != 0,
+                               msg.data().data(), msg.data().size()},
+                              why);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // The frontend component on the bus: the real excerpt played losslessly yields one FeatureFrame per
-// stereo pair, each with at least 120 stereo-matched features; bad images are skipped, not fatal.
+// stereo pair, each with at least 120 stereo-matched features; bad images are skipped, not fatal;
+// colour images on a driver's topic names (remapped) give the features of their grey.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -87,7 +88,7 @@ TEST(FrontendComponent, WrongEncodingAndMissingCalibrationAreSkippedNotFatal) {
   ASSERT_TRUE(right->waitForReaders(1, 10s));
   cv::Mat img(48, 64, CV_8UC1, cv::Scalar(100));
   auto bad = components::toImageMsg(img, 1000, "cam0");
-  bad.encoding("bgr8");
+  bad.encoding("32FC1");  // a depth image on the camera's topic
   left->publish(bad);
   left->publish(components::toImageMsg(img, 2000, "cam0"));
   right->publish(components::toImageMsg(img, 2000, "cam1"));
@@ -99,4 +100,95 @@ TEST(FrontendComponent, WrongEncodingAndMissingCalibrationAreSkippedNotFatal) {
   EXPECT_EQ(frontend.stats().bad_images, 1u);
   EXPECT_EQ(frontend.stats().frames_skipped, 1u);  // no calibration yet
   EXPECT_EQ(frontend.stats().frames_published, 0u);
+}
+
+// A colour camera driver on its own topic names: the frontend, remapped onto them, tracks the
+// rgb8 / bgr8 images as their grey and publishes the same features as on mono8 images.
+TEST(FrontendComponent, ColourImagesOnADriversTopicsGiveTheFeaturesOfTheirGrey) {
+  const std::string dir = (std::filesystem::temp_directory_path() / ("mcvio_frontend_colour_" + std::to_string(getpid()))).string();
+  components::test::writeCleanSequence(dir, 3, 1.0);
+  const auto data = dataset::EurocDataset::open(dir);
+  auto participant = mcvio::dds::Participant::create(testParticipantOptions(71));
+  const auto lossless = mcvio::dds::QosProfile::lossless();
+  using FeatureMsg = mcvio_msgs::msg::dds_::FeatureFrame_;
+  std::mutex m;
+  std::vector<FeatureFrame> grey_frames, colour_frames;
+  auto listener = participant->createNode("listener");
+  auto grey_sub = listener->createSubscription<FeatureMsg>("/mcvio/features", lossless, [&](const FeatureMsg& f) {
+    std::lock_guard<std::mutex> lock(m);
+    grey_frames.push_back(components::fromFeatureFrameMsg(f));
+  });
+  auto colour_sub = listener->createSubscription<FeatureMsg>("/driver/features", lossless, [&](const FeatureMsg& f) {
+    std::lock_guard<std::mutex> lock(m);
+    colour_frames.push_back(components::fromFeatureFrameMsg(f));
+  });
+  components::FrontendComponentOptions fo;
+  fo.calibration_dir = dir;
+  fo.lossless = true;
+  components::FrontendComponent grey_frontend(participant->createNode("frontend"), fo);
+  auto colour_node = participant->createNode(
+      "colour_frontend", "/",
+      TopicRemapping::parse({"/cam0/image_raw:=/driver/left/image_color", "/cam1/image_raw:=/driver/right/image_color",
+                             "/imu0:=/driver/imu", "/mcvio/features:=/driver/features"}));
+  components::FrontendComponent colour_frontend(colour_node, fo);
+  EXPECT_TRUE(colour_node->unusedRemapRules().empty());
+
+  using ImageMsg = sensor_msgs::msg::dds_::Image_;
+  using ImuMsg = sensor_msgs::msg::dds_::Imu_;
+  auto camera = participant->createNode("camera");
+  auto grey_left = camera->createPublisher<ImageMsg>("/cam0/image_raw", lossless);
+  auto grey_right = camera->createPublisher<ImageMsg>("/cam1/image_raw", lossless);
+  auto colour_left = camera->createPublisher<ImageMsg>("/driver/left/image_color", lossless);
+  auto colour_right = camera->createPublisher<ImageMsg>("/driver/right/image_color", lossless);
+  auto imu = camera->createPublisher<ImuMsg>("/imu0", lossless);
+  auto driver_imu = camera->createPublisher<ImuMsg>("/driver/imu", lossless);
+  for (auto* p : std::vector<mcvio::dds::WriterEndpoint*>{grey_left.get(), grey_right.get(), colour_left.get(),
+                                                          colour_right.get(), imu.get(), driver_imu.get()})
+    ASSERT_TRUE(p->waitForReaders(1, 10s)) << p->topic();
+  for (const auto& s : data.imu()) {
+    imu->publish(components::toImuMsg(s, "imu0"));
+    driver_imu->publish(components::toImuMsg(s, "imu0"));
+  }
+  // The grey replicated into three channels, as rgb8 on the left and bgr8 on the right.
+  const auto colour = [](const cv::Mat& grey, Timestamp t, const char* encoding) {
+    ImageMsg msg = components::toImageMsg(grey, t, "cam");
+    msg.encoding(encoding);
+    msg.step(static_cast<std::uint32_t>(grey.cols * 3));
+    msg.data().resize(grey.total() * 3);
+    for (std::size_t i = 0; i < grey.total(); ++i)
+      for (int c = 0; c < 3; ++c) msg.data()[i * 3 + c] = grey.data[i];
+    return msg;
+  };
+  for (const auto& f : data.stereoFrames()) {
+    cv::Mat left, right;
+    std::string error;
+    ASSERT_TRUE(data.tryLoadImage(f, 0, &left, &error)) << error;
+    ASSERT_TRUE(data.tryLoadImage(f, 1, &right, &error)) << error;
+    grey_left->publish(components::toImageMsg(left, f.t, "cam0"));
+    grey_right->publish(components::toImageMsg(right, f.t, "cam1"));
+    colour_left->publish(colour(left, f.t, "rgb8"));
+    colour_right->publish(colour(right, f.t, "bgr8"));
+  }
+  const std::size_t n = data.stereoFrames().size();
+  const auto deadline = std::chrono::steady_clock::now() + 60s;
+  while (std::chrono::steady_clock::now() < deadline) {
+    {
+      std::lock_guard<std::mutex> lock(m);
+      if (grey_frames.size() == n && colour_frames.size() == n) break;
+    }
+    std::this_thread::sleep_for(20ms);
+  }
+  std::filesystem::remove_all(dir);
+  std::lock_guard<std::mutex> lock(m);
+  ASSERT_EQ(grey_frames.size(), n);
+  ASSERT_EQ(colour_frames.size(), n);
+  EXPECT_EQ(colour_frontend.stats().bad_images, 0u);
+  for (std::size_t i = 0; i < n; ++i) {
+    ASSERT_EQ(colour_frames[i].features.size(), grey_frames[i].features.size()) << "frame " << i;
+    ASSERT_GT(grey_frames[i].features.size(), 50u) << "frame " << i;
+    for (std::size_t k = 0; k < grey_frames[i].features.size(); ++k) {
+      EXPECT_EQ(colour_frames[i].features[k].track_id, grey_frames[i].features[k].track_id);
+      EXPECT_EQ(colour_frames[i].features[k].pixel, grey_frames[i].features[k].pixel);
+    }
+  }
 }

@@ -26,6 +26,7 @@
 #include "mcvio/pipeline/bounded_queue.hpp"
 #include "mcvio/dataset/euroc_dataset.hpp"
 #include "mcvio/dataset/euroc_file_reader.hpp"
+#include "mcvio/dataset/sensor_image.hpp"
 #include "mcvio/rosmsg/cdr_codec.hpp"
 #include "revisable_tum_file.hpp"
 
@@ -193,15 +194,14 @@ OfflineInput readBag(const OfflineRunOptions& options) {
         feature_frames.emplace(t, checkedFeatureFrameOf(value, t));
         continue;
       }
-      const auto& enc = std::get<std::string>(value["encoding"].value);
-      const auto w = static_cast<int>(std::get<std::uint64_t>(value["width"].value));
-      const auto h = static_cast<int>(std::get<std::uint64_t>(value["height"].value));
-      const auto step = static_cast<std::size_t>(std::get<std::uint64_t>(value["step"].value));
       const auto& bytes = std::get<rosmsg::MessageValue::Bytes>(value["data"].value);
-      if (enc != "mono8" || bytes.size() < step * static_cast<std::size_t>(h) || step < static_cast<std::size_t>(w)) {
-        in.warnings.push_back(reader.where(m) + ": not a mono8 image (encoding '" + enc + "', " + std::to_string(w) + "x" +
-                              std::to_string(h) + ", step " + std::to_string(step) + ", " + std::to_string(bytes.size()) +
-                              " bytes), skipped");
+      const auto field = [&](const char* name) { return static_cast<std::uint32_t>(std::get<std::uint64_t>(value[name].value)); };
+      std::string why;
+      cv::Mat grey = dataset::greyImageOf({std::get<std::string>(value["encoding"].value), field("width"), field("height"),
+                                           field("step"), field("is_bigendian") != 0, bytes.data(), bytes.size()},
+                                          &why);
+      if (grey.empty()) {
+        in.warnings.push_back(reader.where(m) + ": " + why + "; skipped");
         continue;
       }
       cv::Mat& slot = m.topic == cam0 ? frames[t].first : frames[t].second;
@@ -210,7 +210,7 @@ OfflineInput readBag(const OfflineRunOptions& options) {
                               " ns on this topic; the first is kept, this one skipped");
         continue;
       }
-      slot = cv::Mat(h, w, CV_8UC1, const_cast<std::uint8_t*>(bytes.data()), step).clone();
+      slot = std::move(grey);
     } catch (const std::exception& e) {
       // Name the bag file, topic and time: a bare CDR error does not say which message.
       throw InputError(reader.where(m) + ": " + e.what());
