@@ -13,7 +13,7 @@ failed=0
 expect_timeout=30
 . "$(dirname "$0")/expect.sh"
 expect 106 "--calib is required" -- "$mcvio" backend
-expect 2 "/nonexistent: EuRoC folder does not exist" -- "$mcvio" backend --calib /nonexistent
+expect 2 "/nonexistent: calibration folder or file does not exist" -- "$mcvio" backend --calib /nonexistent
 expect 105 "bogus not in {reference,imu,selective,auto}" -- "$mcvio" backend --calib /nonexistent --mode bogus
 expect 105 "--path-max: '-3' must be a finite number >= 0" -- "$mcvio" backend --calib /nonexistent --path-max -3
 for o in --calib --config --mode --lossless --world-frame --body-frame --secondary-frame --landmarks-every --path-max --max-imu-wait; do

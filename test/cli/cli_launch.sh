@@ -24,7 +24,7 @@ expect 2 "$tmp: is a folder; the launch file must be a YAML file" -- "$mcvio" --
 expect 2 "$tmp/missing.yaml" -- "$mcvio" --domain "$domain" launch "$tmp/missing.yaml"
 printf 'components:\n  - component: player\n    input: x\n    rat: 2\n' > "$tmp/typo.yaml"
 expect 2 "$tmp/typo.yaml:2: component 'player': unknown launch key 'components[0].rat'" -- "$mcvio" --domain "$domain" launch "$tmp/typo.yaml"
-expect 2 "/nonexistent: EuRoC folder does not exist" -- "$mcvio" --domain "$domain" launch "$file" data:=/nonexistent
+expect 2 "/nonexistent: calibration folder or file does not exist" -- "$mcvio" --domain "$domain" launch "$file" data:=/nonexistent
 
 "$mcvio" sim --duration 3 --out "$tmp/seq" > /dev/null 2>&1
 expect_timeout=120 expect 0 "frontend 'frontend': 61 stereo pairs, 61 feature frames published, 0 skipped, 0 dropped" -- \
@@ -78,7 +78,46 @@ if [ -s "$tmp/run_euroc/trajectory.tum" ] && cmp -s "$tmp/run_euroc/trajectory.t
 else
   echo "FAIL: mcvio run --remap on the driver-named bag differs from the EuRoC run"; failed=1
 fi
-expect 2 "the bag has no /cam0/image_raw (it holds /odom, /driver/imu" -- "$mcvio" run --dataset "$tmp/rbag" --calib "$tmp/seq" --out "$tmp/run_rbag2" -q
+# The sequence's calibration as Kalibr writes it (camchain-imucam + imu.yaml, no time shift):
+# `mcvio run --calib` on those gives the EuRoC run's poses.
+python3 - "$tmp/seq/mav0" "$tmp/kalibr" <<'PY'
+import os, re, sys
+mav0, out = sys.argv[1], sys.argv[2]
+os.makedirs(out)
+def keys(path):
+    text = open(path).read()
+    grab = lambda k: re.search(r'^' + k + r':\s*(.*?)\s*(#.*)?$', text, re.M).group(1)
+    data = [float(v) for v in re.search(r'data:\s*\[([^\]]*)\]', text).group(1).replace('\n', ' ').split(',')]
+    return grab, [data[0:4], data[4:8], data[8:12], data[12:16]]
+chain = ''
+for cam in ('cam0', 'cam1'):
+    grab, T = keys(f'{mav0}/{cam}/sensor.yaml')
+    R = [row[:3] for row in T[:3]]; t = [row[3] for row in T[:3]]
+    Rt = [[R[c][r] for c in range(3)] for r in range(3)]
+    ti = [-sum(Rt[r][c] * t[c] for c in range(3)) for r in range(3)]
+    rows = [Rt[r] + [ti[r]] for r in range(3)] + [[0.0, 0.0, 0.0, 1.0]]
+    model = {'radial-tangential': 'radtan'}.get(grab('distortion_model'), grab('distortion_model'))
+    chain += (f'{cam}:\n  camera_model: pinhole\n  intrinsics: {grab("intrinsics")}\n  distortion_model: {model}\n'
+              f'  distortion_coeffs: {grab("distortion_coefficients")}\n  resolution: {grab("resolution")}\n'
+              f'  rostopic: /{cam}/image_raw\n  timeshift_cam_imu: 0.0\n  T_cam_imu:\n' +
+              ''.join('  - [' + ', '.join(repr(v) for v in row) + ']\n' for row in rows))
+open(f'{out}/camchain-imucam-seq.yaml', 'w').write(chain)
+grab, _ = keys(f'{mav0}/imu0/sensor.yaml')
+open(f'{out}/imu.yaml', 'w').write(''.join(f'{k}: {grab(k)}\n' for k in (
+    'accelerometer_noise_density', 'accelerometer_random_walk', 'gyroscope_noise_density', 'gyroscope_random_walk')) +
+    f'update_rate: {grab("rate_hz")}\nrostopic: /imu0\n')
+PY
+expect 0 "poses" -- "$mcvio" run --dataset "$tmp/seq" --calib "$tmp/kalibr" --out "$tmp/run_kalibr" -q
+if [ -s "$tmp/run_kalibr/trajectory.tum" ] && [ "$(wc -l < "$tmp/run_kalibr/trajectory.tum")" = "$(wc -l < "$tmp/run_euroc/trajectory.tum")" ] &&
+   paste -d' ' "$tmp/run_euroc/trajectory.tum" "$tmp/run_kalibr/trajectory.tum" | awk '
+     /^#/ { next } { if ($1 != $9) bad = 1; for (k = 2; k <= 4; ++k) { d = $k - $(k + 8); if (d > 1e-6 || d < -1e-6) bad = 1 } }
+     END { exit bad }'; then
+  echo "ok: mcvio run --calib with Kalibr's files gives the EuRoC calibration's poses (within 1 um)"
+else
+  echo "FAIL: mcvio run --calib KALIBR differs from the EuRoC run"; failed=1
+fi
+expect 2 "neither a EuRoC folder" -- "$mcvio" run --dataset "$tmp/seq" --calib "$tmp" --out "$tmp/run_nocalib" -q
+expect 2 "the bag has no /cam0/image_raw (it holds " -- "$mcvio" run --dataset "$tmp/rbag" --calib "$tmp/seq" --out "$tmp/run_rbag2" -q
 expect 2 "--remap names a bag's topics; $tmp/seq is a EuRoC folder" -- \
   "$mcvio" run --dataset "$tmp/seq" --out "$tmp/run_r3" -q --remap /imu0:=/driver/imu
 expect 2 "remap rule '/imu0': expected FROM:=TO" -- "$mcvio" --domain "$domain" backend --calib "$tmp/seq" --remap /imu0

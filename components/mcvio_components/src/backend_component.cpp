@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "mcvio/components/ros_conversions.hpp"
-#include "mcvio/dataset/euroc_file_reader.hpp"
+#include "mcvio/dataset/rig_calibration_reader.hpp"
 #include "mcvio/estimator/sliding_window_estimator.hpp"
 
 namespace mcvio::components {
@@ -88,7 +88,7 @@ struct BackendComponent::Impl {
       : node(std::move(n)), options(std::move(o)), imu_topic(node->resolveTopic(kImuTopic)),
         features_topic(node->resolveTopic(kFeaturesTopic)) {
     options.validate();
-    rig = dataset::EurocFileReader::readCalibration(options.calibration_dir);
+    rig = dataset::RigCalibrationReader::read(options.calibration_dir);
     estimator = std::make_unique<estimator::SlidingWindowEstimator>(options.estimator, rig);
 
     const auto in_qos = options.lossless ? dds::QosProfile::lossless() : dds::QosProfile::sensorData();

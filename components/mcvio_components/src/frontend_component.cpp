@@ -6,7 +6,7 @@
 
 #include "mcvio/components/ros_conversions.hpp"
 #include "mcvio/core/input_error.hpp"
-#include "mcvio/dataset/euroc_file_reader.hpp"
+#include "mcvio/dataset/rig_calibration_reader.hpp"
 #include "mcvio/dataset/sensor_image.hpp"
 #include "mcvio/frontend/track_drawer.hpp"
 
@@ -35,6 +35,7 @@ struct FrontendComponent::Impl {
   std::unique_ptr<dds::Subscription<Image>> left_sub, right_sub;
   std::unique_ptr<dds::Subscription<Imu>> imu_sub;
   std::string image_topic[2];  ///< as remapped, for messages
+  Timestamp camera_time_offset_ns = 0;  ///< the calibration's: image stamp -> IMU clock
 
   mutable std::mutex mutex;
   std::condition_variable cv;
@@ -51,7 +52,9 @@ struct FrontendComponent::Impl {
       : node(std::move(n)), options(std::move(o)), tracker(options.tracker),
         image_topic{node->resolveTopic("/cam0/image_raw"), node->resolveTopic("/cam1/image_raw")} {
     if (!options.calibration_dir.empty()) {
-      tracker.setCalibration(dataset::EurocFileReader::readCalibration(options.calibration_dir));
+      const auto rig = dataset::RigCalibrationReader::read(options.calibration_dir);
+      camera_time_offset_ns = rig.camera_time_offset_ns;
+      tracker.setCalibration(rig);
     } else {
       std::cerr << "mcvio frontend: no --calib given: frames are skipped until a calibration is set "
                    "(camera_info has no stereo extrinsics)\n";
@@ -133,13 +136,13 @@ struct FrontendComponent::Impl {
         // The tracker gets the IMU through the first sample at or after the frame time, as
         // `mcvio run` hands it (the player publishes a frame before the IMU of the same instant).
         // Lossless: wait for that sample, at most a second (the end of a stream).
-        const Timestamp t = queue.front().t;
+        const Timestamp t = queue.front().t + camera_time_offset_ns;  // on the IMU's clock
         if (options.lossless)
           cv.wait_for(lock, std::chrono::seconds(1), [&] { return (have_imu && last_imu_t >= t) || !running; });
         if (!running) return;
         in = std::move(queue.front());
         queue.pop_front();
-        auto split = std::find_if(imu.begin(), imu.end(), [&](const ImuSample& s) { return s.t >= in.t; });
+        auto split = std::find_if(imu.begin(), imu.end(), [&](const ImuSample& s) { return s.t >= t; });
         if (split != imu.end()) ++split;
         in.imu.assign(imu.begin(), split);
         imu.erase(imu.begin(), split);

@@ -429,7 +429,7 @@ std::string LaunchFile::keysHelp() {
          "(true: with --processes, start it again when it ends while the launch runs) and respawn_delay (s).\n"
          "  player    input (EuRoC folder or bag, required), topics (bags: a list), rate, lossless, loop, start,\n"
          "            duration, max_gap, wait_for_readers, progress\n"
-         "  frontend  calibration (EuRoC folder, required), config (YAML with frontend:), tracks_image, lossless,\n"
+         "  frontend  calibration (EuRoC folder or Kalibr camchain-imucam, required), config (YAML with frontend:), tracks_image, lossless,\n"
          "            max_queued_pairs\n"
          "  backend   calibration (required), config (YAML with estimator:), mode (reference, imu, selective,\n"
          "            auto), lossless, world_frame, body_frame, secondary_frame, landmarks_every, path_max,\n"

@@ -4,11 +4,11 @@
 
 #include <cmath>
 #include <fstream>
-#include <sstream>
 #include <vector>
 
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/core/yaml_file.hpp"
+#include "calibration_checks.hpp"
 #include "number_format.hpp"
 
 namespace mcvio::dataset {
@@ -93,16 +93,8 @@ class YamlFile {
     Eigen::Matrix4d m;
     for (int r = 0; r < 4; ++r)
       for (int c = 0; c < 4; ++c) m(r, c) = d[4 * r + c];
-    if ((m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).norm() > 1e-9) {
-      fail(node["data"], data_key, "last row must be [0, 0, 0, 1]");
-    }
-    const Eigen::Matrix3d R = m.topLeftCorner<3, 3>();
-    const double orthogonality = (R.transpose() * R - Eigen::Matrix3d::Identity()).norm();
-    if (orthogonality > 1e-5 || R.determinant() < 0.0) {
-      fail(node["data"], data_key,
-           "rotation part is not a rotation matrix (|R^T R - I| = " + formatDouble(orthogonality) +
-               ")");
-    }
+    const std::string problem = detail::transformProblem(m);
+    if (!problem.empty()) fail(node["data"], data_key, problem);
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.matrix() = m;
     return T;
@@ -166,17 +158,9 @@ CameraCalibration SensorYaml::readCamera(const std::string& path, const std::str
   }
   const YAML::Node in_node = yaml.require("intrinsics");
   const std::vector<double> in = yaml.numbers(in_node, "intrinsics", 4, 4);
-  // The principal point of a real lens sits inside its image, and a focal length beyond 100 image
-  // widths is a unit slip: both would run and silently lose every feature.
-  if (in[2] < 0 || in[2] > res[0] || in[3] < 0 || in[3] > res[1]) {
-    yaml.fail(in_node, "intrinsics", "principal point (" + std::to_string(in[2]) + ", " + std::to_string(in[3]) +
-                                         ") lies outside the " + std::to_string(static_cast<int>(res[0])) + "x" +
-                                         std::to_string(static_cast<int>(res[1])) + " image");
-  }
-  if (in[0] > 100 * res[0] || in[1] > 100 * res[0]) {
-    yaml.fail(in_node, "intrinsics", "focal length (" + std::to_string(in[0]) + ", " + std::to_string(in[1]) +
-                                         ") is more than 100 image widths");
-  }
+  const std::string intrinsics_problem = detail::intrinsicsProblem(Eigen::Vector4d(in[0], in[1], in[2], in[3]),
+                                                                  static_cast<int>(res[0]), static_cast<int>(res[1]));
+  if (!intrinsics_problem.empty()) yaml.fail(in_node, "intrinsics", intrinsics_problem);
   DistortionModel model;
   const std::string model_name = yaml.text("distortion_model");  // its errors name the file already
   try {
@@ -213,41 +197,9 @@ CameraCalibration SensorYaml::readCamera(const std::string& path, const std::str
   } catch (const InputError& e) {
     throw InputError(path + ": " + e.what());
   }
-  // Coefficients a real lens produces invert over the middle of its image; a unit or sign slip
-  // (k1 = 1e6) folds the model there, and the run would lose most features without a word.
-  // Only the central half is checked: wide fisheye corners can lie beyond the model's 90 degrees.
-  if (model != DistortionModel::kNone) {
-    const CameraModel& m = calibration.model;
-    const Eigen::Vector2d centre(in[2], in[3]);
-    const Eigen::Vector2d half_reach[4] = {{-0.5 * in[2], 0.0}, {0.5 * (res[0] - in[2]), 0.0},
-                                           {0.0, -0.5 * in[3]}, {0.0, 0.5 * (res[1] - in[3])}};
-    constexpr int kSteps = 16;
-    for (const Eigen::Vector2d& reach : half_reach) {
-      for (int i = 1; i <= kSteps; ++i) {
-        const Eigen::Vector2d pixel = centre + reach * (static_cast<double>(i) / kSteps);
-        Eigen::Vector2d normalized, back;
-        const bool inverts = m.unproject(pixel, &normalized) &&
-                             m.projectAnywhere(Eigen::Vector3d(normalized.x(), normalized.y(), 1.0), &back) &&
-                             (back - pixel).norm() < 0.01;
-        std::ostringstream os;
-        if (!inverts) {
-          os << "cannot be inverted at pixel (" << pixel.x() << ", " << pixel.y()
-             << ") in the central half of the image: the " << model_name
-             << " model folds over there and features would be lost (a unit or sign slip?)";
-        } else {
-          // Real lenses, fisheyes included, stretch the middle of the image by well under 5x.
-          const double scale = m.pixelToDistorted(pixel).norm() / normalized.norm();
-          if (scale > 5.0 || scale < 0.2) {
-            os << "scale the ray through pixel (" << pixel.x() << ", " << pixel.y() << ") by " << scale
-               << ", in the central half of the image; a real lens stays within 0.2-5 there (a unit or sign slip?)";
-          }
-        }
-        if (!os.str().empty()) {
-          yaml.fail(yaml.require("distortion_coefficients"), "distortion_coefficients", os.str());
-        }
-      }
-    }
-  }
+  const std::string distortion_problem = detail::distortionProblem(calibration.model, model_name);
+  if (!distortion_problem.empty())
+    yaml.fail(yaml.require("distortion_coefficients"), "distortion_coefficients", distortion_problem);
   return calibration;
 }
 

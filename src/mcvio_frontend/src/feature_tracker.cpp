@@ -211,19 +211,21 @@ void FeatureTracker::buildPyramid(const cv::Mat& image, std::vector<cv::Mat>* py
 
 TrackingResult FeatureTracker::track(const StereoInput& input) {
   TrackingResult result;
-  result.features.t = input.t;
+  // On the IMU's clock (Kalibr's timeshift_cam_imu), as the estimator integrates between frames.
+  const Timestamp frame_t = input.t + (calibration_ ? calibration_->camera_time_offset_ns : 0);
+  result.features.t = frame_t;
   int imu_rejected = 0;
   for (const ImuSample& s : input.imu) imu_rejected += gyro_.add(s) ? 0 : 1;
   result.stats.imu_rejected = imu_rejected;
   if (imu_rejected > 0) {
-    result.message = "frontend: frame t=" + std::to_string(input.t) + ": ignored " +
+    result.message = "frontend: frame t=" + std::to_string(frame_t) + ": ignored " +
                      std::to_string(imu_rejected) +
                      " IMU sample(s) that were non-finite or not newer than the last";
   }
 
   auto skip = [&](FrameStatus status, const std::string& why) {
     result.status = status;
-    result.message = "frontend: frame t=" + std::to_string(input.t) + " skipped: " + why;
+    result.message = "frontend: frame t=" + std::to_string(frame_t) + " skipped: " + why;
     return result;
   };
   if (!calibration_) return skip(FrameStatus::kNoCalibration, "no stereo calibration received yet");
@@ -247,7 +249,7 @@ TrackingResult FeatureTracker::track(const StereoInput& input) {
                       std::to_string(cam.width()) + "x" + std::to_string(cam.height()));
     }
   }
-  if (has_prev_ && input.t <= prev_t_) {
+  if (has_prev_ && frame_t <= prev_t_) {
     return skip(FrameStatus::kOutOfOrder,
                 "timestamp not after the previous frame t=" + std::to_string(prev_t_));
   }
@@ -273,7 +275,7 @@ TrackingResult FeatureTracker::track(const StereoInput& input) {
     Eigen::Matrix3d R_cur_prev;
     bool have_rotation = false;
     if (options_.use_gyro_prediction &&
-        gyro_.rotation(prev_t_, input.t, gyro_bias_, &R_b_prev_cur)) {
+        gyro_.rotation(prev_t_, frame_t, gyro_bias_, &R_b_prev_cur)) {
       const Eigen::Matrix3d R_bc = calibration_->cam0.T_BC.linear();
       R_cur_prev = (R_bc.transpose() * R_b_prev_cur * R_bc).transpose();
       have_rotation = true;
@@ -285,7 +287,7 @@ TrackingResult FeatureTracker::track(const StereoInput& input) {
     for (Track& t : tracks_) t.label = TrackLabel::kUnknown;
   }
   stats.cpu_ms_temporal = lap();
-  detectNew(left, input.t, &stats);
+  detectNew(left, frame_t, &stats);
   stats.cpu_ms_detect = lap();
   matchStereo(left_pyr, right_pyr, &stats);
   stats.cpu_ms_stereo = lap();
@@ -315,10 +317,10 @@ TrackingResult FeatureTracker::track(const StereoInput& input) {
   stats.cpu_ms_total = threadCpuMs() - t_start;
   prev_left_pyr_ = std::move(left_pyr);
   if (options_.reidentify_lost_tracks) prev_left_ = left;
-  prev_t_ = input.t;
+  prev_t_ = frame_t;
   has_prev_ = true;
   ++frame_index_;
-  gyro_.dropBefore(input.t);
+  gyro_.dropBefore(frame_t);
   return result;
 }
 

@@ -25,7 +25,7 @@
 #include "mcvio/bag/bag_reader.hpp"
 #include "mcvio/pipeline/bounded_queue.hpp"
 #include "mcvio/dataset/euroc_dataset.hpp"
-#include "mcvio/dataset/euroc_file_reader.hpp"
+#include "mcvio/dataset/rig_calibration_reader.hpp"
 #include "mcvio/dataset/sensor_image.hpp"
 #include "mcvio/rosmsg/cdr_codec.hpp"
 #include "revisable_tum_file.hpp"
@@ -109,7 +109,7 @@ OfflineInput readBag(const OfflineRunOptions& options) {
                      "camera_info carries no stereo extrinsics");
   }
   OfflineInput in;
-  in.calibration = dataset::EurocFileReader::readCalibration(options.calibration_dir);
+  in.calibration = dataset::RigCalibrationReader::read(options.calibration_dir);
   // The bag's names for what the run reads (--remap /imu0:=/camera/imu).
   const std::string cam0 = options.remapping.resolve("/cam0/image_raw"), cam1 = options.remapping.resolve("/cam1/image_raw");
   const std::string imu = options.remapping.resolve("/imu0"), features = options.remapping.resolve(kFeaturesTopic);
@@ -245,7 +245,7 @@ OfflineInput readEuroc(const OfflineRunOptions& options) {
   auto data = std::make_shared<dataset::EurocDataset>(dataset::EurocDataset::open(options.dataset_dir));
   OfflineInput in;
   in.calibration = options.calibration_dir.empty() ? data->calibration()
-                                                   : dataset::EurocFileReader::readCalibration(options.calibration_dir);
+                                                   : dataset::RigCalibrationReader::read(options.calibration_dir);
   in.imu = data->imu();
   for (const auto& f : data->stereoFrames()) in.frame_times.push_back(f.t);
   in.warnings = data->warnings();
@@ -406,7 +406,7 @@ class RunRecorder {
 /// IMU to reach t, as a live backend waits for it. (Real IMU stamps jitter around the camera's:
 /// EuRoC V1_01 has samples 64-128 ns after a frame; stopping before t would skip those frames.)
 /// A non-finite sample (a bag's IMU may carry one) is dropped by the frontend, so it does not count
-/// as reaching t.
+/// as reaching t. t is on the IMU's clock: a camera stamp plus the rig's camera_time_offset_ns.
 std::vector<ImuSample> imuThrough(const std::vector<ImuSample>& imu, Timestamp t, std::size_t* next) {
   std::vector<ImuSample> out;
   const auto reaches = [t](const ImuSample& s) { return s.t >= t && s.gyro.allFinite() && s.accel.allFinite(); };
@@ -425,7 +425,7 @@ void runSequential(const OfflineInput& data, VioPipeline& vio, RunRecorder& rec,
   for (std::size_t i = 0; i < data.frame_times.size(); ++i) {
     throwIfStopRequested(stop_requested, i, data.frame_times.size());
     const Timestamp t = data.frame_times[i];
-    for (const auto& s : imuThrough(data.imu, t, &next_imu)) vio.addImu(s);
+    for (const auto& s : imuThrough(data.imu, t + data.calibration.camera_time_offset_ns, &next_imu)) vio.addImu(s);
     const double c0 = threadCpuMs();
     const auto images = data.images(i);
     const double load_ms = threadCpuMs() - c0;
@@ -498,7 +498,8 @@ void runPipelined(const OfflineInput& data, VioPipeline& vio, RunRecorder& rec,
     std::size_t next_imu = 0;
     while (auto f = loaded.pop()) {
       const Timestamp t = data.frame_times[f->index];
-      auto frame = vio.trackFrame(t, f->images.first, f->images.second, imuThrough(data.imu, t, &next_imu));
+      auto frame = vio.trackFrame(t, f->images.first, f->images.second,
+                                  imuThrough(data.imu, t + data.calibration.camera_time_offset_ns, &next_imu));
       f->images = {};
       if (!tracked.push({std::move(frame), f->cpu_ms})) break;
     }

@@ -244,6 +244,41 @@ TEST(OfflineRun, PipelinedRunWritesTheSequentialTrajectory) {
   std::filesystem::remove_all(out + "_pipe");
 }
 
+// A camera whose stamps run behind the IMU's clock (Kalibr's timeshift_cam_imu): with the shift in
+// the calibration the run is the one of a camera stamped on the IMU's clock, to the byte.
+TEST(OfflineRun, ACameraTimeShiftPutsTheFramesOnTheImusClock) {
+  const auto& seq = shortRenderedSequence();
+  const std::string out = ::testing::TempDir() + "/time_shift_" + std::to_string(getpid());
+  pipeline::OfflineRunOptions o;
+  o.progress = false;
+  o.dataset_dir = "rendered none 6 s";
+  o.output_dir = out + "_imu_clock";
+  const auto a = pipeline::runOffline(cachedInput(seq), o);
+  constexpr Timestamp kShift = 2345678;  // not a multiple of the 5 ms IMU period
+  auto shifted = cachedInput(seq);
+  for (auto& t : shifted.frame_times) t -= kShift;
+  shifted.calibration.camera_time_offset_ns = kShift;
+  o.output_dir = out + "_shifted";
+  const auto b = pipeline::runOffline(shifted, o);
+  EXPECT_EQ(a.estimated, b.estimated);
+  EXPECT_GT(a.estimated, a.frames / 2);
+  std::ifstream ta(out + "_imu_clock/trajectory.tum"), tb(out + "_shifted/trajectory.tum");
+  std::stringstream sa, sb;
+  sa << ta.rdbuf();
+  sb << tb.rdbuf();
+  EXPECT_FALSE(sa.str().empty());
+  EXPECT_EQ(sa.str(), sb.str());
+  // Without the shift the poses carry the camera's stamps and the IMU is cut elsewhere.
+  shifted.calibration.camera_time_offset_ns = 0;
+  o.output_dir = out + "_unshifted";
+  pipeline::runOffline(shifted, o);
+  std::ifstream tc(out + "_unshifted/trajectory.tum");
+  std::stringstream sc;
+  sc << tc.rdbuf();
+  EXPECT_NE(sa.str(), sc.str());
+  for (const char* d : {"_imu_clock", "_shifted", "_unshifted"}) std::filesystem::remove_all(out + d);
+}
+
 // A failing image source stops all stages and reaches the caller as the error it was.
 TEST(OfflineRun, ImageErrorInThePipelineIsRethrown) {
   const auto& seq = shortRenderedSequence();

@@ -26,7 +26,9 @@ void addFrontendCommand(CLI::App& app, CommandContext& ctx) {
       "    --remap /cam1/image_raw:=/camera/infra2/image_rect_raw --remap /imu0:=/camera/imu   # a driver's topics\n"
       "Images may be mono8, mono16, rgb8, bgr8, rgba8, bgra8, Bayer (bayer_rggb8, ...) or yuv422; they\n"
       "are tracked as 8-bit grey.");
-  cmd->add_option("--calib", opt->calib, "EuRoC folder with cam0/cam1 sensor.yaml (stereo calibration)");
+  cmd->add_option("--calib", opt->calib,
+                  "stereo calibration: a EuRoC folder (cam0/cam1/imu0 sensor.yaml), or Kalibr's camchain-imucam\n"
+                  "YAML (file, or its folder) with its imu*.yaml beside it; Kalibr's timeshift_cam_imu is applied");
   cmd->add_option("--config", opt->config, "YAML with frontend options (see config/frontend.yaml)");
   cmd->add_flag("--tracks-image", opt->tracks_image, "also publish /mcvio/tracks_image (rgb8) for RViz/Foxglove");
   cmd->add_flag("--lossless", opt->lossless, "reliable keep-all topics, for lossless offline pipelines");

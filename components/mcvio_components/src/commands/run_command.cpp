@@ -42,7 +42,8 @@ void addRunCommand(CLI::App& app, CommandContext&) {
                   "(or with /mcvio/features and /imu0: the estimator alone)")
       ->required();
   cmd->add_option("--calib", opt->calibration_dir,
-                  "EuRoC folder whose sensor.yaml files give the stereo calibration (required for bags)");
+                  "stereo calibration (required for bags): a EuRoC folder's sensor.yaml files, or Kalibr's\n"
+                  "camchain-imucam YAML (file, or its folder) with its imu*.yaml beside it (timeshift_cam_imu applied)");
   cmd->add_option("--out", opt->output_dir, "output folder (created)")->required();
   cmd->add_option("--config", opt->config_file,
                   "YAML with `frontend:` and `estimator:` option sections; keys left out keep the built-in defaults\n"

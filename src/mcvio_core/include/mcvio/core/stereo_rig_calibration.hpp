@@ -3,6 +3,7 @@
 
 #include "mcvio/core/camera_calibration.hpp"
 #include "mcvio/core/imu_calibration.hpp"
+#include "mcvio/core/time.hpp"
 
 namespace mcvio {
 
@@ -12,6 +13,9 @@ struct StereoRigCalibration {
   CameraCalibration cam0;  ///< left camera
   CameraCalibration cam1;  ///< right camera
   ImuCalibration imu;
+  /// IMU time of a camera stamp minus the stamp [ns] (Kalibr's timeshift_cam_imu: t_imu = t_cam +
+  /// shift); the frontend moves every frame by it. EuRoC folders have none (0).
+  Timestamp camera_time_offset_ns = 0;
 
   /// cam1 -> cam0: p_C0 = T_C0C1 * p_C1 (derived from the two T_BC).
   Eigen::Isometry3d T_C0C1() const { return cam0.T_BC.inverse() * cam1.T_BC; }

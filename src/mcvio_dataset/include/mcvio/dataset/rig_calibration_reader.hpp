@@ -1,0 +1,17 @@
+#pragma once
+#include <string>
+
+#include "mcvio/core/stereo_rig_calibration.hpp"
+
+namespace mcvio::dataset {
+
+/// What `--calib PATH` names: a EuRoC folder (mav0/cam0, cam1, imu0 sensor.yaml; the folder
+/// holding mav0/ or mav0/ itself), or Kalibr's files: a camchain-imucam YAML, or a folder holding
+/// one camchain-imucam*.yaml, with the one imu*.yaml beside it (see KalibrCalibration).
+/// Throws mcvio::InputError naming the path and what it lacks.
+class RigCalibrationReader {
+ public:
+  static StereoRigCalibration read(const std::string& path);
+};
+
+}  // namespace mcvio::dataset

@@ -1,0 +1,206 @@
+#include "mcvio/dataset/kalibr_calibration.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "calibration_checks.hpp"
+#include "mcvio/core/input_error.hpp"
+#include "mcvio/core/yaml_file.hpp"
+#include "number_format.hpp"
+
+namespace mcvio::dataset {
+namespace {
+
+// A section of a Kalibr file being read: errors name the file, the section, the key and the line.
+class Section {
+ public:
+  Section(std::string path, std::string name, YAML::Node node)
+      : path_(std::move(path)), name_(std::move(name)), node_(std::move(node)) {}
+
+  bool has(const std::string& key) const { return static_cast<bool>(node_[key]); }
+
+  YAML::Node require(const std::string& key) const {
+    const YAML::Node n = node_[key];
+    if (!n) throw InputError(path_ + ": " + prefix() + "missing key '" + key + "'");
+    return n;
+  }
+
+  [[noreturn]] void fail(const YAML::Node& n, const std::string& key, const std::string& what) const {
+    const YAML::Mark mark = n.Mark();
+    const std::string line = mark.line >= 0 ? ":" + std::to_string(mark.line + 1) : "";
+    throw InputError(path_ + line + ": " + prefix() + "key '" + key + "' " + what);
+  }
+
+  double number(const YAML::Node& n, const std::string& key) const {
+    double v = 0;
+    if (!n.IsScalar()) fail(n, key, "must be a number");
+    try {
+      v = n.as<double>();
+    } catch (const YAML::Exception&) {
+      fail(n, key, "must be a number, got '" + n.Scalar() + "'");
+    }
+    if (!std::isfinite(v)) fail(n, key, "must be finite");
+    return v;
+  }
+  double number(const std::string& key) const { return number(require(key), key); }
+  double positive(const std::string& key) const {
+    const double v = number(key);
+    if (!(v > 0)) fail(require(key), key, "must be positive, got " + detail::formatDouble(v));
+    return v;
+  }
+  std::string text(const std::string& key) const {
+    const YAML::Node n = require(key);
+    if (!n.IsScalar()) fail(n, key, "must be a string");
+    return n.Scalar();
+  }
+  std::vector<double> numbers(const std::string& key, std::size_t min_count, std::size_t max_count) const {
+    const YAML::Node n = require(key);
+    if (!n.IsSequence()) fail(n, key, "must be a list of numbers");
+    if (n.size() < min_count || n.size() > max_count) {
+      fail(n, key, "must have " + std::to_string(min_count) +
+                       (max_count != min_count ? "-" + std::to_string(max_count) : std::string()) + " values, got " +
+                       std::to_string(n.size()));
+    }
+    std::vector<double> v;
+    for (const auto& item : n) v.push_back(number(item, key));
+    return v;
+  }
+  // Kalibr writes a transform as four rows of four numbers.
+  Eigen::Isometry3d transform(const std::string& key) const {
+    const YAML::Node n = require(key);
+    if (!n.IsSequence() || n.size() != 4) fail(n, key, "must be 4 rows of 4 numbers");
+    Eigen::Matrix4d m;
+    for (int r = 0; r < 4; ++r) {
+      const YAML::Node row = n[r];
+      if (!row.IsSequence() || row.size() != 4) fail(row, key, "row " + std::to_string(r + 1) + " must have 4 numbers");
+      for (int c = 0; c < 4; ++c) m(r, c) = number(row[c], key);
+    }
+    const std::string problem = detail::transformProblem(m);
+    if (!problem.empty()) fail(n, key, problem);
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.matrix() = m;
+    return T;
+  }
+
+  const std::string& path() const { return path_; }
+  std::string prefix() const { return name_.empty() ? std::string() : name_ + ": "; }
+
+ private:
+  std::string path_, name_;
+  YAML::Node node_;
+};
+
+CameraCalibration readCamera(const Section& cam, const std::string& name) {
+  CameraCalibration calibration;
+  calibration.name = name;
+  const std::string model = cam.text("camera_model");
+  if (model != "pinhole") {
+    cam.fail(cam.require("camera_model"), "camera_model",
+             "'" + model + "' is not supported (pinhole only; omni, ds and eucm are not)");
+  }
+  const std::vector<double> res = cam.numbers("resolution", 2, 2);
+  for (double v : res) {
+    if (v < 1.0 || v != std::floor(v) || v > 1e6) cam.fail(cam.require("resolution"), "resolution", "must be two positive integers [width, height]");
+  }
+  const std::vector<double> in = cam.numbers("intrinsics", 4, 4);
+  const Eigen::Vector4d intrinsics(in[0], in[1], in[2], in[3]);
+  const std::string intrinsics_problem = detail::intrinsicsProblem(intrinsics, static_cast<int>(res[0]), static_cast<int>(res[1]));
+  if (!intrinsics_problem.empty()) cam.fail(cam.require("intrinsics"), "intrinsics", intrinsics_problem);
+  const std::string model_name = cam.text("distortion_model");
+  DistortionModel distortion = DistortionModel::kNone;
+  if (model_name == "radtan") distortion = DistortionModel::kRadialTangential;
+  else if (model_name == "equidistant") distortion = DistortionModel::kEquidistant;
+  else if (model_name != "none")
+    cam.fail(cam.require("distortion_model"), "distortion_model", "'" + model_name + "' is not supported (radtan, equidistant or none)");
+  Eigen::Vector4d coefficients = Eigen::Vector4d::Zero();
+  if (distortion != DistortionModel::kNone) {
+    const std::vector<double> d = cam.numbers("distortion_coeffs", 4, 4);
+    coefficients = Eigen::Vector4d(d[0], d[1], d[2], d[3]);
+  } else if (cam.has("distortion_coeffs")) {
+    for (double v : cam.numbers("distortion_coeffs", 0, 4))
+      if (v != 0.0) cam.fail(cam.require("distortion_coeffs"), "distortion_coeffs", "must be empty or zero for distortion_model none");
+  }
+  try {
+    calibration.model = CameraModel(static_cast<int>(res[0]), static_cast<int>(res[1]), intrinsics, distortion, coefficients);
+  } catch (const InputError& e) {
+    throw InputError(cam.path() + ": " + cam.prefix() + e.what());
+  }
+  const std::string distortion_problem = detail::distortionProblem(calibration.model, model_name);
+  if (!distortion_problem.empty()) cam.fail(cam.require("distortion_coeffs"), "distortion_coeffs", distortion_problem);
+  return calibration;
+}
+
+Section sectionOf(const std::string& path, const YAML::Node& root, const std::string& name) {
+  const YAML::Node n = root[name];
+  if (!n) throw InputError(path + ": no '" + name + "' (a Kalibr camchain lists cam0 and cam1)");
+  if (!n.IsMap()) throw InputError(path + ": '" + name + "' must be a map of camera keys");
+  return Section(path, name, n);
+}
+
+}  // namespace
+
+StereoRigCalibration KalibrCalibration::read(const std::string& camchain_path, const std::string& imu_path) {
+  const YAML::Node chain = loadYamlFile(camchain_path, "Kalibr camchain");
+  if (!chain.IsMap()) throw InputError(camchain_path + ": expected a YAML map with cam0 and cam1");
+  StereoRigCalibration rig;
+  const Section cam0 = sectionOf(camchain_path, chain, "cam0"), cam1 = sectionOf(camchain_path, chain, "cam1");
+  rig.cam0 = readCamera(cam0, "cam0");
+  rig.cam1 = readCamera(cam1, "cam1");
+  if (!cam0.has("T_cam_imu")) {
+    throw InputError(camchain_path + ": cam0: missing key 'T_cam_imu': this is a camera-only camchain; mcvio needs the "
+                     "camera-IMU one (kalibr_calibrate_imu_camera's camchain-imucam.yaml)");
+  }
+  const Eigen::Isometry3d T_c0_imu = cam0.transform("T_cam_imu");
+  Eigen::Isometry3d T_c1_imu;
+  if (cam1.has("T_cam_imu")) {
+    T_c1_imu = cam1.transform("T_cam_imu");
+    if (cam1.has("T_cn_cnm1")) {
+      // Both given: they must describe the same rig (Kalibr writes them consistently).
+      const Eigen::Isometry3d chained = cam1.transform("T_cn_cnm1") * T_c0_imu;
+      const Eigen::Isometry3d diff = chained.inverse() * T_c1_imu;
+      const double dt = diff.translation().norm(), dr = Eigen::AngleAxisd(diff.rotation()).angle() * 180.0 / M_PI;
+      if (dt > 1e-3 || dr > 0.1) {
+        char by[64];
+        std::snprintf(by, sizeof(by), "%.2f mm and %.3f degrees", dt * 1000, dr);
+        cam1.fail(cam1.require("T_cn_cnm1"), "T_cn_cnm1", std::string("disagrees with the two T_cam_imu by ") + by);
+      }
+    }
+  } else if (cam1.has("T_cn_cnm1")) {
+    T_c1_imu = cam1.transform("T_cn_cnm1") * T_c0_imu;
+  } else {
+    throw InputError(camchain_path + ": cam1: missing key 'T_cam_imu' (or 'T_cn_cnm1', its pose from cam0)");
+  }
+  rig.cam0.T_BC = T_c0_imu.inverse();
+  rig.cam1.T_BC = T_c1_imu.inverse();
+  // Kalibr estimates the shift per camera; a stereo pair mcvio tracks shares one clock.
+  const double shift0 = cam0.has("timeshift_cam_imu") ? cam0.number("timeshift_cam_imu") : 0.0;
+  const double shift1 = cam1.has("timeshift_cam_imu") ? cam1.number("timeshift_cam_imu") : shift0;
+  if (std::abs(shift0 - shift1) > 1e-3) {
+    cam1.fail(cam1.require("timeshift_cam_imu"), "timeshift_cam_imu",
+              "is " + detail::formatDouble(shift1) + " s against cam0's " + detail::formatDouble(shift0) +
+                  " s: mcvio needs a synchronised stereo pair (one stamp per pair)");
+  }
+  if (std::abs(shift0) > 1.0) {
+    cam0.fail(cam0.require("timeshift_cam_imu"), "timeshift_cam_imu",
+              "is " + detail::formatDouble(shift0) + " s; a camera-IMU time shift is milliseconds (seconds, not ms?)");
+  }
+  rig.camera_time_offset_ns = static_cast<Timestamp>(std::llround(shift0 * 1e9));
+
+  const YAML::Node imu_root = loadYamlFile(imu_path, "Kalibr IMU file");
+  if (!imu_root.IsMap()) throw InputError(imu_path + ": expected a YAML map of IMU keys");
+  // Kalibr's input imu.yaml has the keys at the top; its results file under imu0.
+  const bool nested = imu_root["imu0"] && imu_root["imu0"].IsMap() && !imu_root["accelerometer_noise_density"];
+  const Section imu(imu_path, nested ? "imu0" : "", nested ? imu_root["imu0"] : imu_root);
+  rig.imu.name = "imu0";
+  rig.imu.noise.accelerometer_noise_density = imu.positive("accelerometer_noise_density");
+  rig.imu.noise.accelerometer_random_walk = imu.positive("accelerometer_random_walk");
+  rig.imu.noise.gyroscope_noise_density = imu.positive("gyroscope_noise_density");
+  rig.imu.noise.gyroscope_random_walk = imu.positive("gyroscope_random_walk");
+  rig.imu.noise.rate_hz = imu.positive("update_rate");
+  return rig;
+}
+
+}  // namespace mcvio::dataset
