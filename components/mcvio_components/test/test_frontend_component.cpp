@@ -20,6 +20,16 @@ namespace {
 
 using components::test::excerptDir;
 using components::test::testParticipantOptions;
+using FeatureMsg = mcvio_msgs::msg::dds_::FeatureFrame_;
+
+// Every FeatureFrame published on `topic`, appended to `frames` under `m`.
+std::unique_ptr<mcvio::dds::Subscription<FeatureMsg>> collectFeatures(mcvio::dds::Node& node, const std::string& topic,
+                                                                       std::mutex& m, std::vector<FeatureFrame>& frames) {
+  return node.createSubscription<FeatureMsg>(topic, mcvio::dds::QosProfile::lossless(), [&m, &frames](const FeatureMsg& f) {
+    std::lock_guard<std::mutex> lock(m);
+    frames.push_back(components::fromFeatureFrameMsg(f));
+  });
+}
 
 }  // namespace
 
@@ -31,11 +41,7 @@ TEST(FrontendComponent, RealExcerptGivesAFeatureFramePerPairWithEnoughStereoMatc
   std::mutex m;
   std::vector<FeatureFrame> frames;
   auto listener = participant->createNode("listener");
-  auto sub = listener->createSubscription<mcvio_msgs::msg::dds_::FeatureFrame_>(
-      "/mcvio/features", mcvio::dds::QosProfile::lossless(), [&](const mcvio_msgs::msg::dds_::FeatureFrame_& f) {
-        std::lock_guard<std::mutex> lock(m);
-        frames.push_back(components::fromFeatureFrameMsg(f));
-      });
+  auto sub = collectFeatures(*listener, "/mcvio/features", m, frames);
   components::FrontendComponentOptions fo;
   fo.calibration_dir = dir;
   fo.lossless = true;
@@ -110,18 +116,11 @@ TEST(FrontendComponent, ColourImagesOnADriversTopicsGiveTheFeaturesOfTheirGrey) 
   const auto data = dataset::EurocDataset::open(dir);
   auto participant = mcvio::dds::Participant::create(testParticipantOptions(71));
   const auto lossless = mcvio::dds::QosProfile::lossless();
-  using FeatureMsg = mcvio_msgs::msg::dds_::FeatureFrame_;
   std::mutex m;
   std::vector<FeatureFrame> grey_frames, colour_frames;
   auto listener = participant->createNode("listener");
-  auto grey_sub = listener->createSubscription<FeatureMsg>("/mcvio/features", lossless, [&](const FeatureMsg& f) {
-    std::lock_guard<std::mutex> lock(m);
-    grey_frames.push_back(components::fromFeatureFrameMsg(f));
-  });
-  auto colour_sub = listener->createSubscription<FeatureMsg>("/driver/features", lossless, [&](const FeatureMsg& f) {
-    std::lock_guard<std::mutex> lock(m);
-    colour_frames.push_back(components::fromFeatureFrameMsg(f));
-  });
+  auto grey_sub = collectFeatures(*listener, "/mcvio/features", m, grey_frames);
+  auto colour_sub = collectFeatures(*listener, "/driver/features", m, colour_frames);
   components::FrontendComponentOptions fo;
   fo.calibration_dir = dir;
   fo.lossless = true;

@@ -10,64 +10,16 @@
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/core/yaml_file.hpp"
 #include "number_format.hpp"
+#include "yaml_section.hpp"
 
 namespace mcvio::dataset {
 namespace {
 
-// A section of a Kalibr file being read: errors name the file, the section, the key and the line.
-class Section {
+// A camera or IMU section of a Kalibr file, plus Kalibr's form of a transform.
+class Section : public detail::YamlSection {
  public:
-  Section(std::string path, std::string name, YAML::Node node)
-      : path_(std::move(path)), name_(std::move(name)), node_(std::move(node)) {}
+  using YamlSection::YamlSection;
 
-  bool has(const std::string& key) const { return static_cast<bool>(node_[key]); }
-
-  YAML::Node require(const std::string& key) const {
-    const YAML::Node n = node_[key];
-    if (!n) throw InputError(path_ + ": " + prefix() + "missing key '" + key + "'");
-    return n;
-  }
-
-  [[noreturn]] void fail(const YAML::Node& n, const std::string& key, const std::string& what) const {
-    const YAML::Mark mark = n.Mark();
-    const std::string line = mark.line >= 0 ? ":" + std::to_string(mark.line + 1) : "";
-    throw InputError(path_ + line + ": " + prefix() + "key '" + key + "' " + what);
-  }
-
-  double number(const YAML::Node& n, const std::string& key) const {
-    double v = 0;
-    if (!n.IsScalar()) fail(n, key, "must be a number");
-    try {
-      v = n.as<double>();
-    } catch (const YAML::Exception&) {
-      fail(n, key, "must be a number, got '" + n.Scalar() + "'");
-    }
-    if (!std::isfinite(v)) fail(n, key, "must be finite");
-    return v;
-  }
-  double number(const std::string& key) const { return number(require(key), key); }
-  double positive(const std::string& key) const {
-    const double v = number(key);
-    if (!(v > 0)) fail(require(key), key, "must be positive, got " + detail::formatDouble(v));
-    return v;
-  }
-  std::string text(const std::string& key) const {
-    const YAML::Node n = require(key);
-    if (!n.IsScalar()) fail(n, key, "must be a string");
-    return n.Scalar();
-  }
-  std::vector<double> numbers(const std::string& key, std::size_t min_count, std::size_t max_count) const {
-    const YAML::Node n = require(key);
-    if (!n.IsSequence()) fail(n, key, "must be a list of numbers");
-    if (n.size() < min_count || n.size() > max_count) {
-      fail(n, key, "must have " + std::to_string(min_count) +
-                       (max_count != min_count ? "-" + std::to_string(max_count) : std::string()) + " values, got " +
-                       std::to_string(n.size()));
-    }
-    std::vector<double> v;
-    for (const auto& item : n) v.push_back(number(item, key));
-    return v;
-  }
   // Kalibr writes a transform as four rows of four numbers.
   Eigen::Isometry3d transform(const std::string& key) const {
     const YAML::Node n = require(key);
@@ -84,13 +36,6 @@ class Section {
     T.matrix() = m;
     return T;
   }
-
-  const std::string& path() const { return path_; }
-  std::string prefix() const { return name_.empty() ? std::string() : name_ + ": "; }
-
- private:
-  std::string path_, name_;
-  YAML::Node node_;
 };
 
 CameraCalibration readCamera(const Section& cam, const std::string& name) {

@@ -10,6 +10,7 @@
 #include "mcvio/core/yaml_file.hpp"
 #include "calibration_checks.hpp"
 #include "number_format.hpp"
+#include "yaml_section.hpp"
 
 namespace mcvio::dataset {
 
@@ -18,68 +19,10 @@ namespace {
 using detail::appendDouble;
 using detail::formatDouble;
 
-// A sensor.yaml being read: every error names the file, and the key and line where known.
-class YamlFile {
+// A sensor.yaml being read: the top level of the file, plus EuRoC's form of a transform.
+class YamlFile : public detail::YamlSection {
  public:
-  explicit YamlFile(std::string path) : path_(std::move(path)) {
-    root_ = loadYamlFile(path_, "sensor calibration file");
-    if (!root_.IsMap()) throw InputError(path_ + ": expected a YAML map of sensor keys");
-  }
-
-  YAML::Node require(const YAML::Node& parent, const std::string& key) const {
-    const YAML::Node node = parent[key];
-    if (!node) throw InputError(path_ + ": missing key '" + key + "'");
-    return node;
-  }
-  YAML::Node require(const std::string& key) const { return require(root_, key); }
-  bool has(const std::string& key) const { return static_cast<bool>(root_[key]); }
-
-  [[noreturn]] void fail(const YAML::Node& node, const std::string& key,
-                         const std::string& what) const {
-    const YAML::Mark mark = node.Mark();
-    const std::string line = mark.line >= 0 ? ":" + std::to_string(mark.line + 1) : "";
-    throw InputError(path_ + line + ": key '" + key + "' " + what);
-  }
-
-  double number(const YAML::Node& node, const std::string& key) const {
-    double value = 0.0;
-    try {
-      if (!node.IsScalar()) fail(node, key, "must be a number");
-      value = node.as<double>();
-    } catch (const YAML::Exception&) {
-      fail(node, key, "must be a number, got '" + node.Scalar() + "'");
-    }
-    if (!std::isfinite(value)) fail(node, key, "must be finite");
-    return value;
-  }
-  double number(const std::string& key) const { return number(require(key), key); }
-
-  double positive(const std::string& key) const {
-    const YAML::Node node = require(key);
-    const double value = number(node, key);
-    if (!(value > 0.0)) fail(node, key, "must be positive, got " + formatDouble(value));
-    return value;
-  }
-
-  std::string text(const std::string& key) const {
-    const YAML::Node node = require(key);
-    if (!node.IsScalar()) fail(node, key, "must be a string");
-    return node.Scalar();
-  }
-
-  std::vector<double> numbers(const YAML::Node& node, const std::string& key, std::size_t min_count,
-                              std::size_t max_count) const {
-    if (!node.IsSequence()) fail(node, key, "must be a list of numbers");
-    if (node.size() < min_count || node.size() > max_count) {
-      fail(node, key,
-           "must have " + std::to_string(min_count) +
-               (max_count != min_count ? "-" + std::to_string(max_count) : std::string()) +
-               " values, got " + std::to_string(node.size()));
-    }
-    std::vector<double> values;
-    for (const auto& item : node) values.push_back(number(item, key));
-    return values;
-  }
+  explicit YamlFile(const std::string& path) : YamlSection(path, "", load(path)) {}
 
   Eigen::Isometry3d transform(const std::string& key) const {
     const YAML::Node node = require(key);
@@ -101,8 +44,11 @@ class YamlFile {
   }
 
  private:
-  std::string path_;
-  YAML::Node root_;
+  static YAML::Node load(const std::string& path) {
+    YAML::Node root = loadYamlFile(path, "sensor calibration file");
+    if (!root.IsMap()) throw InputError(path + ": expected a YAML map of sensor keys");
+    return root;
+  }
 };
 
 void appendTransform(std::string& out, const Eigen::Isometry3d& T) {
