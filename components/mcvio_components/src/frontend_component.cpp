@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <iostream>
+#include <stdexcept>
 
 #include "mcvio/components/ros_conversions.hpp"
 #include "mcvio/core/input_error.hpp"
@@ -14,6 +15,7 @@ namespace mcvio::components {
 namespace {
 
 using Image = sensor_msgs::msg::dds_::Image_;
+using CompressedImage = sensor_msgs::msg::dds_::CompressedImage_;
 using Imu = sensor_msgs::msg::dds_::Imu_;
 using FeatureFrameMsg = mcvio_msgs::msg::dds_::FeatureFrame_;
 
@@ -22,6 +24,9 @@ cv::Mat imageOf(const Image& msg, std::string* why) {
   return dataset::greyImageOf({msg.encoding(), msg.width(), msg.height(), msg.step(), msg.is_bigendian() != 0,
                                msg.data().data(), msg.data().size()},
                               why);
+}
+cv::Mat imageOf(const CompressedImage& msg, std::string* why) {
+  return dataset::greyImageOfCompressed(msg.format(), msg.data().data(), msg.data().size(), why);
 }
 
 }  // namespace
@@ -33,6 +38,7 @@ struct FrontendComponent::Impl {
   std::unique_ptr<dds::Publisher<FeatureFrameMsg>> features_pub;
   std::unique_ptr<dds::Publisher<Image>> tracks_pub;
   std::unique_ptr<dds::Subscription<Image>> left_sub, right_sub;
+  std::unique_ptr<dds::Subscription<CompressedImage>> left_compressed_sub, right_compressed_sub;
   std::unique_ptr<dds::Subscription<Imu>> imu_sub;
   std::string image_topic[2];  ///< as remapped, for messages
   Timestamp camera_time_offset_ns = 0;  ///< the calibration's: image stamp -> IMU clock
@@ -51,6 +57,7 @@ struct FrontendComponent::Impl {
   explicit Impl(std::shared_ptr<dds::Node> n, FrontendComponentOptions o)
       : node(std::move(n)), options(std::move(o)), tracker(options.tracker),
         image_topic{node->resolveTopic("/cam0/image_raw"), node->resolveTopic("/cam1/image_raw")} {
+    options.validate();
     if (!options.calibration_dir.empty()) {
       const auto rig = dataset::RigCalibrationReader::read(options.calibration_dir);
       camera_time_offset_ns = rig.camera_time_offset_ns;
@@ -64,14 +71,23 @@ struct FrontendComponent::Impl {
     features_pub = node->createPublisher<FeatureFrameMsg>("/mcvio/features", out_qos);
     if (options.publish_tracks_image) tracks_pub = node->createPublisher<Image>("/mcvio/tracks_image", dds::QosProfile::sensorData());
     worker = std::thread([this] { run(); });
-    left_sub = node->createSubscription<Image>("/cam0/image_raw", in_qos, [this](const Image& m) { onImage(m, 0); });
-    right_sub = node->createSubscription<Image>("/cam1/image_raw", in_qos, [this](const Image& m) { onImage(m, 1); });
+    if (options.image_transport == "compressed") {
+      // image_transport's naming: the compressed stream of base topic B is B/compressed.
+      for (auto& name : image_topic) name += "/compressed";
+      left_compressed_sub = node->createSubscription<CompressedImage>(image_topic[0], in_qos, [this](const CompressedImage& m) { onImage(m, 0); });
+      right_compressed_sub = node->createSubscription<CompressedImage>(image_topic[1], in_qos, [this](const CompressedImage& m) { onImage(m, 1); });
+    } else {
+      left_sub = node->createSubscription<Image>("/cam0/image_raw", in_qos, [this](const Image& m) { onImage(m, 0); });
+      right_sub = node->createSubscription<Image>("/cam1/image_raw", in_qos, [this](const Image& m) { onImage(m, 1); });
+    }
     imu_sub = node->createSubscription<Imu>("/imu0", in_qos, [this](const Imu& m) { onImu(m); });
   }
 
   ~Impl() {
     left_sub.reset();
     right_sub.reset();
+    left_compressed_sub.reset();
+    right_compressed_sub.reset();
     imu_sub.reset();
     running = false;
     cv.notify_all();
@@ -87,7 +103,8 @@ struct FrontendComponent::Impl {
     cv.notify_one();
   }
 
-  void onImage(const Image& m, int camera) {
+  template <class Msg>
+  void onImage(const Msg& m, int camera) {
     std::string why;
     cv::Mat img = imageOf(m, &why);
     const Timestamp t = stampOf(m.header());
@@ -171,6 +188,12 @@ struct FrontendComponent::Impl {
     }
   }
 };
+
+void FrontendComponentOptions::validate() const {
+  if (image_transport != "raw" && image_transport != "compressed")
+    throw std::invalid_argument("frontend: image_transport '" + image_transport + "' is not raw or compressed");
+  if (max_queued_pairs == 0) throw std::invalid_argument("frontend: max_queued_pairs must be at least 1");
+}
 
 FrontendComponent::FrontendComponent(std::shared_ptr<dds::Node> node, FrontendComponentOptions options)
     : impl_(std::make_unique<Impl>(std::move(node), std::move(options))) {}

@@ -359,8 +359,11 @@ LaunchPlan::Entry LaunchFile::entry(const YAML::Node& raw, std::size_t index, co
         f.get("tracks_image", &o.publish_tracks_image);
         f.get("lossless", &o.lossless);
         f.get("max_queued_pairs", &o.max_queued_pairs);
+        f.get("image_transport", &o.image_transport);
         if (o.calibration_dir.empty()) fail("'calibration' (a EuRoC folder with the cameras' sensor.yaml) is missing or empty");
         if (o.max_queued_pairs == 0) fail("'max_queued_pairs' must be at least 1");
+        if (o.image_transport != "raw" && o.image_transport != "compressed")
+          fail("'image_transport' is '" + o.image_transport + "'; it must be raw or compressed");
         if (!config.empty()) o.tracker = pipeline::VioPipelineOptions::fromYamlFile(config).frontend;
         break;
       }
@@ -430,7 +433,7 @@ std::string LaunchFile::keysHelp() {
          "  player    input (EuRoC folder or bag, required), topics (bags: a list), rate, lossless, loop, start,\n"
          "            duration, max_gap, wait_for_readers, progress\n"
          "  frontend  calibration (EuRoC folder or Kalibr camchain-imucam, required), config (YAML with frontend:), tracks_image, lossless,\n"
-         "            max_queued_pairs\n"
+         "            max_queued_pairs, image_transport (raw, compressed)\n"
          "  backend   calibration (required), config (YAML with estimator:), mode (reference, imu, selective,\n"
          "            auto), lossless, world_frame, body_frame, secondary_frame, landmarks_every, path_max,\n"
          "            max_imu_wait, max_queued_frames\n"

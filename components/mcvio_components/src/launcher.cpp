@@ -118,8 +118,9 @@ Launcher::Result Launcher::run(const Control& control) {
             s.participant = participantFor(e, nullptr);
             auto node = s.participant->createNode(e.name, e.node_namespace, e.remapping);
             s.frontend = std::make_unique<FrontendComponent>(node, e.frontend);
-            say("frontend '" + e.name + "' tracking " + node->resolveTopic("/cam0/image_raw") + " + " +
-                node->resolveTopic("/cam1/image_raw") + " (calibration " + e.frontend.calibration_dir + ")");
+            const std::string suffix = e.frontend.image_transport == "compressed" ? "/compressed" : "";
+            say("frontend '" + e.name + "' tracking " + node->resolveTopic("/cam0/image_raw") + suffix + " + " +
+                node->resolveTopic("/cam1/image_raw") + suffix + " (calibration " + e.frontend.calibration_dir + ")");
             warnUnusedRules(*node, e.name);
             break;
           }

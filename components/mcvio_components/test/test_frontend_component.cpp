@@ -8,6 +8,8 @@
 #include <thread>
 #include <unistd.h>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "mcvio/components/frontend_component.hpp"
 #include "mcvio/components/player.hpp"
 #include "mcvio/components/ros_conversions.hpp"
@@ -109,7 +111,8 @@ TEST(FrontendComponent, WrongEncodingAndMissingCalibrationAreSkippedNotFatal) {
 }
 
 // A colour camera driver on its own topic names: the frontend, remapped onto them, tracks the
-// rgb8 / bgr8 images as their grey and publishes the same features as on mono8 images.
+// rgb8 / bgr8 images as their grey and publishes the same features as on mono8 images; so does
+// one on image_transport's compressed streams (png, lossless).
 TEST(FrontendComponent, ColourImagesOnADriversTopicsGiveTheFeaturesOfTheirGrey) {
   const std::string dir = (std::filesystem::temp_directory_path() / ("mcvio_frontend_colour_" + std::to_string(getpid()))).string();
   components::test::writeCleanSequence(dir, 3, 1.0);
@@ -117,10 +120,11 @@ TEST(FrontendComponent, ColourImagesOnADriversTopicsGiveTheFeaturesOfTheirGrey) 
   auto participant = mcvio::dds::Participant::create(testParticipantOptions(71));
   const auto lossless = mcvio::dds::QosProfile::lossless();
   std::mutex m;
-  std::vector<FeatureFrame> grey_frames, colour_frames;
+  std::vector<FeatureFrame> grey_frames, colour_frames, png_frames;
   auto listener = participant->createNode("listener");
   auto grey_sub = collectFeatures(*listener, "/mcvio/features", m, grey_frames);
   auto colour_sub = collectFeatures(*listener, "/driver/features", m, colour_frames);
+  auto png_sub = collectFeatures(*listener, "/png/features", m, png_frames);
   components::FrontendComponentOptions fo;
   fo.calibration_dir = dir;
   fo.lossless = true;
@@ -131,6 +135,10 @@ TEST(FrontendComponent, ColourImagesOnADriversTopicsGiveTheFeaturesOfTheirGrey) 
                              "/imu0:=/driver/imu", "/mcvio/features:=/driver/features"}));
   components::FrontendComponent colour_frontend(colour_node, fo);
   EXPECT_TRUE(colour_node->unusedRemapRules().empty());
+  auto png_fo = fo;
+  png_fo.image_transport = "compressed";
+  components::FrontendComponent png_frontend(
+      participant->createNode("png_frontend", "/", TopicRemapping::parse({"/mcvio/features:=/png/features"})), png_fo);
 
   using ImageMsg = sensor_msgs::msg::dds_::Image_;
   using ImuMsg = sensor_msgs::msg::dds_::Imu_;
@@ -139,10 +147,14 @@ TEST(FrontendComponent, ColourImagesOnADriversTopicsGiveTheFeaturesOfTheirGrey) 
   auto grey_right = camera->createPublisher<ImageMsg>("/cam1/image_raw", lossless);
   auto colour_left = camera->createPublisher<ImageMsg>("/driver/left/image_color", lossless);
   auto colour_right = camera->createPublisher<ImageMsg>("/driver/right/image_color", lossless);
+  using CompressedMsg = sensor_msgs::msg::dds_::CompressedImage_;
+  auto png_left = camera->createPublisher<CompressedMsg>("/cam0/image_raw/compressed", lossless);
+  auto png_right = camera->createPublisher<CompressedMsg>("/cam1/image_raw/compressed", lossless);
   auto imu = camera->createPublisher<ImuMsg>("/imu0", lossless);
   auto driver_imu = camera->createPublisher<ImuMsg>("/driver/imu", lossless);
   for (auto* p : std::vector<mcvio::dds::WriterEndpoint*>{grey_left.get(), grey_right.get(), colour_left.get(),
-                                                          colour_right.get(), imu.get(), driver_imu.get()})
+                                                          colour_right.get(), png_left.get(), png_right.get(), imu.get(),
+                                                          driver_imu.get()})
     ASSERT_TRUE(p->waitForReaders(1, 10s)) << p->topic();
   for (const auto& s : data.imu()) {
     imu->publish(components::toImuMsg(s, "imu0"));
@@ -158,6 +170,15 @@ TEST(FrontendComponent, ColourImagesOnADriversTopicsGiveTheFeaturesOfTheirGrey) 
       for (int c = 0; c < 3; ++c) msg.data()[i * 3 + c] = grey.data[i];
     return msg;
   };
+  const auto png = [](const cv::Mat& grey, Timestamp t) {
+    CompressedMsg msg;
+    msg.header(components::toImageMsg(grey, t, "cam").header());
+    msg.format("mono8; png compressed mono8");
+    std::vector<std::uint8_t> bytes;
+    cv::imencode(".png", grey, bytes);
+    msg.data(bytes);
+    return msg;
+  };
   for (const auto& f : data.stereoFrames()) {
     cv::Mat left, right;
     std::string error;
@@ -167,13 +188,15 @@ TEST(FrontendComponent, ColourImagesOnADriversTopicsGiveTheFeaturesOfTheirGrey) 
     grey_right->publish(components::toImageMsg(right, f.t, "cam1"));
     colour_left->publish(colour(left, f.t, "rgb8"));
     colour_right->publish(colour(right, f.t, "bgr8"));
+    png_left->publish(png(left, f.t));
+    png_right->publish(png(right, f.t));
   }
   const std::size_t n = data.stereoFrames().size();
   const auto deadline = std::chrono::steady_clock::now() + 60s;
   while (std::chrono::steady_clock::now() < deadline) {
     {
       std::lock_guard<std::mutex> lock(m);
-      if (grey_frames.size() == n && colour_frames.size() == n) break;
+      if (grey_frames.size() == n && colour_frames.size() == n && png_frames.size() == n) break;
     }
     std::this_thread::sleep_for(20ms);
   }
@@ -181,13 +204,17 @@ TEST(FrontendComponent, ColourImagesOnADriversTopicsGiveTheFeaturesOfTheirGrey) 
   std::lock_guard<std::mutex> lock(m);
   ASSERT_EQ(grey_frames.size(), n);
   ASSERT_EQ(colour_frames.size(), n);
+  ASSERT_EQ(png_frames.size(), n);
   EXPECT_EQ(colour_frontend.stats().bad_images, 0u);
+  EXPECT_EQ(png_frontend.stats().bad_images, 0u);
   for (std::size_t i = 0; i < n; ++i) {
     ASSERT_EQ(colour_frames[i].features.size(), grey_frames[i].features.size()) << "frame " << i;
+    ASSERT_EQ(png_frames[i].features.size(), grey_frames[i].features.size()) << "frame " << i;
     ASSERT_GT(grey_frames[i].features.size(), 50u) << "frame " << i;
     for (std::size_t k = 0; k < grey_frames[i].features.size(); ++k) {
       EXPECT_EQ(colour_frames[i].features[k].track_id, grey_frames[i].features[k].track_id);
       EXPECT_EQ(colour_frames[i].features[k].pixel, grey_frames[i].features[k].pixel);
+      EXPECT_EQ(png_frames[i].features[k].pixel, grey_frames[i].features[k].pixel);
     }
   }
 }

@@ -1,5 +1,6 @@
 // A bag recorded from a lossless playback of the real excerpt runs through `mcvio run` to the
 // same trajectory as the EuRoC folder itself: what went over DDS is what the offline run sees.
+// So does a driver's bag of compressed images on its own topic names (remapped).
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -10,11 +11,15 @@
 #include <thread>
 #include <unistd.h>
 
+#include <fastdds/rtps/common/SerializedPayload.h>
+#include <opencv2/imgcodecs.hpp>
+
 #include "mcvio/bag/bag_metadata.hpp"
 #include "mcvio/bag/bag_reader.hpp"
 #include "mcvio/bag/bag_writer.hpp"
 #include "mcvio/components/player.hpp"
 #include "mcvio/components/recorder.hpp"
+#include "mcvio/components/ros_conversions.hpp"
 #include "mcvio/interfaces/message_registry.hpp"
 #include "mcvio/pipeline/offline_run.hpp"
 #include "component_test_support.hpp"
@@ -197,5 +202,102 @@ TEST(RunOnBag, RecordedPlaybackGivesTheSameTrajectoryAsTheDataset) {
 
   from_bag.calibration_dir.clear();
   EXPECT_THROW(pipeline::runOffline(from_bag), InputError);
+  std::filesystem::remove_all(base);
+}
+
+namespace {
+
+// The CDR payload of a generated message, as a recorder stores it.
+template <class T>
+std::vector<std::uint8_t> payloadOf(const T& msg) {
+  typename interfaces::RosType<T>::PubSubType type;
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(const_cast<T*>(&msg))());
+  EXPECT_TRUE(type.serialize(const_cast<T*>(&msg), &payload));
+  return {payload.data, payload.data + payload.length};
+}
+
+// A bag topic of a built-in type, described as a recorder describes it.
+bag::TopicInfo topicOf(const std::string& name, const std::string& type) {
+  const auto* d = interfaces::MessageRegistry::find(type);
+  bag::TopicInfo t;
+  t.name = name;
+  t.type = type;
+  t.message_definition = std::string(d->full_definition);
+  t.type_description_hash = std::string(d->type_hash);
+  return t;
+}
+
+}  // namespace
+
+// A driver's bag with its own topic names and image_transport's compressed images (png, so
+// lossless) runs like the EuRoC folder it was made from; a frame that does not decode costs
+// that frame, with a warning naming the bag, topic and time.
+TEST(RunOnBag, CompressedImagesOnADriversTopicsGiveTheEurocTrajectory) {
+  using CompressedImage = sensor_msgs::msg::dds_::CompressedImage_;
+  const std::string base = ::testing::TempDir() + "/run_on_compressed_" + std::to_string(getpid());
+  std::filesystem::remove_all(base);
+  components::test::writeCleanSequence(base + "/seq", 5, 3.0);
+  const auto data = dataset::EurocDataset::open(base + "/seq");
+  const auto writeBag = [&](const std::string& dir, std::size_t damaged_frame) {
+    bag::BagWriter out(dir);
+    const auto put = [&out](const std::string& topic, Timestamp t, const std::vector<std::uint8_t>& bytes) {
+      out.write(topic, t, t, bytes.data(), bytes.size());
+    };
+    const char* image_topics[2] = {"/stereo/left/image_raw/compressed", "/stereo/right/image_raw/compressed"};
+    for (const char* t : image_topics) out.addTopic(topicOf(t, "sensor_msgs/msg/CompressedImage"));
+    out.addTopic(topicOf("/stereo/imu", "sensor_msgs/msg/Imu"));
+    std::size_t next_imu = 0;
+    for (std::size_t i = 0; i < data.stereoFrames().size(); ++i) {
+      const auto& f = data.stereoFrames()[i];
+      for (; next_imu < data.imu().size() && data.imu()[next_imu].t <= f.t; ++next_imu)
+        put("/stereo/imu", data.imu()[next_imu].t, payloadOf(components::toImuMsg(data.imu()[next_imu], "imu")));
+      for (int c = 0; c < 2; ++c) {
+        cv::Mat grey;
+        std::string error;
+        ASSERT_TRUE(data.tryLoadImage(f, c, &grey, &error)) << error;
+        CompressedImage msg;
+        msg.header(components::toImageMsg(grey, f.t, c == 0 ? "left" : "right").header());
+        msg.format(c == 0 ? "mono8; png compressed mono8" : "png");
+        std::vector<std::uint8_t> png;
+        cv::imencode(".png", grey, png);
+        if (i == damaged_frame && c == 0) png.resize(png.size() / 2);
+        msg.data(png);
+        put(image_topics[c], f.t, payloadOf(msg));
+      }
+    }
+    for (; next_imu < data.imu().size(); ++next_imu)
+      put("/stereo/imu", data.imu()[next_imu].t, payloadOf(components::toImuMsg(data.imu()[next_imu], "imu")));
+    out.close();
+  };
+  writeBag(base + "/bag", std::size_t(-1));
+  writeBag(base + "/damaged", 30);
+
+  pipeline::OfflineRunOptions euroc;
+  euroc.dataset_dir = base + "/seq";
+  euroc.output_dir = base + "/from_euroc";
+  euroc.progress = false;
+  const auto a = pipeline::runOffline(euroc);
+  pipeline::OfflineRunOptions from_bag = euroc;
+  from_bag.dataset_dir = base + "/bag";
+  from_bag.calibration_dir = base + "/seq";
+  from_bag.output_dir = base + "/from_bag";
+  EXPECT_NE(inputErrorOf(from_bag).find("the bag has no /cam0/image_raw"), std::string::npos);
+  from_bag.remapping = TopicRemapping::parse({"/cam0/image_raw:=/stereo/left/image_raw/compressed",
+                                              "/cam1/image_raw:=/stereo/right/image_raw/compressed", "/imu0:=/stereo/imu"});
+  const auto b = pipeline::runOffline(from_bag);
+  EXPECT_GT(a.estimated, 30u);
+  EXPECT_EQ(b.estimated, a.estimated);
+  EXPECT_EQ(b.skipped, 0u);
+  EXPECT_EQ(lines(base + "/from_bag/trajectory.tum"), lines(base + "/from_euroc/trajectory.tum"));
+
+  pipeline::OfflineRunOptions damaged = from_bag;
+  damaged.dataset_dir = base + "/damaged";
+  damaged.output_dir = base + "/from_damaged";
+  const auto c = pipeline::runOffline(damaged);
+  EXPECT_EQ(c.frames + 1, a.frames);
+  std::ifstream stats(damaged.output_dir + "/stats.json");
+  const std::string json{std::istreambuf_iterator<char>(stats), std::istreambuf_iterator<char>()};
+  EXPECT_NE(json.find("/stereo/left/image_raw/compressed"), std::string::npos) << json;
+  EXPECT_NE(json.find("does not decode; skipped"), std::string::npos) << json;
   std::filesystem::remove_all(base);
 }

@@ -1,5 +1,6 @@
 #include "mcvio/dataset/sensor_image.hpp"
 
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace mcvio::dataset {
@@ -84,6 +85,31 @@ cv::Mat greyImageOf(const SensorImageView& image, std::string* why) {
   } else {
     grey = rows.clone();
   }
+  return grey;
+}
+
+cv::Mat greyImageOfCompressed(const std::string& format, const std::uint8_t* data, std::size_t size, std::string* why) {
+  if (format.find("compressedDepth") != std::string::npos) {
+    *why = "format '" + format + "' is a depth image (compressedDepth), not a camera image";
+    return {};
+  }
+  if (format.find("jpeg") == std::string::npos && format.find("jpg") == std::string::npos &&
+      format.find("png") == std::string::npos) {
+    *why = "format '" + format + "' is neither jpeg nor png";
+    return {};
+  }
+  if (!data || size == 0) {
+    *why = "compressed image (" + format + ") has no data";
+    return {};
+  }
+  const cv::Mat encoded(1, static_cast<int>(size), CV_8UC1, const_cast<std::uint8_t*>(data));
+  cv::Mat grey;
+  try {
+    grey = cv::imdecode(encoded, cv::IMREAD_GRAYSCALE);
+  } catch (const cv::Exception&) {
+    grey.release();  // OpenCV throws for some damaged files: the same as one that does not decode
+  }
+  if (grey.empty()) *why = "compressed image (" + format + ", " + std::to_string(size) + " bytes) does not decode";
   return grey;
 }
 

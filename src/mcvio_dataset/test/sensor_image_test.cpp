@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include <functional>
 #include <vector>
 
@@ -111,6 +113,45 @@ TEST(SensorImage, WhatCannotBeTrackedSaysWhy) {
   EXPECT_EQ(why({"yuv422", 7, 2, 14, false, bytes.data(), bytes.size()}),
             "yuv422 packs two pixels in four bytes, and the width 7 is odd");
   EXPECT_EQ(why({"mono8", 8, 8, 8, false, nullptr, 64}), "image 8x8 mono8 has no pixel data");
+}
+
+TEST(SensorImage, CompressedPngIsExactAndJpegClose) {
+  cv::Mat grey(48, 64, CV_8UC1);
+  for (int r = 0; r < grey.rows; ++r)
+    for (int c = 0; c < grey.cols; ++c) grey.at<std::uint8_t>(r, c) = static_cast<std::uint8_t>((r * 7 + c * 3) % 256);
+  std::string why;
+  std::vector<std::uint8_t> png, jpeg;
+  ASSERT_TRUE(cv::imencode(".png", grey, png));
+  ASSERT_TRUE(cv::imencode(".jpg", grey, jpeg, {cv::IMWRITE_JPEG_QUALITY, 95}));
+  for (const char* format : {"png", "mono8; png compressed mono8", "mono8; compressed png"}) {
+    const cv::Mat back = greyImageOfCompressed(format, png.data(), png.size(), &why);
+    ASSERT_EQ(back.type(), CV_8UC1) << format << ": " << why;
+    EXPECT_EQ(cv::norm(back, grey, cv::NORM_INF), 0.0) << format;
+  }
+  // A colour PNG (bgr8 published compressed) decodes to its grey.
+  cv::Mat colour;
+  cv::merge(std::vector<cv::Mat>{grey, grey, grey}, colour);
+  std::vector<std::uint8_t> colour_png;
+  ASSERT_TRUE(cv::imencode(".png", colour, colour_png));
+  EXPECT_EQ(cv::norm(greyImageOfCompressed("bgr8; png compressed bgr8", colour_png.data(), colour_png.size(), &why), grey,
+                     cv::NORM_INF),
+            0.0);
+  const cv::Mat from_jpeg = greyImageOfCompressed("jpeg", jpeg.data(), jpeg.size(), &why);
+  ASSERT_EQ(from_jpeg.size(), grey.size()) << why;
+  EXPECT_LT(cv::norm(from_jpeg, grey, cv::NORM_L1) / static_cast<double>(grey.total()), 3.0);
+}
+
+TEST(SensorImage, CompressedImagesThatCannotBeTrackedSayWhy) {
+  std::string why;
+  const std::vector<std::uint8_t> garbage = {1, 2, 3, 4, 5, 6, 7, 8};
+  EXPECT_TRUE(greyImageOfCompressed("16UC1; compressedDepth png", garbage.data(), garbage.size(), &why).empty());
+  EXPECT_EQ(why, "format '16UC1; compressedDepth png' is a depth image (compressedDepth), not a camera image");
+  EXPECT_TRUE(greyImageOfCompressed("tiff", garbage.data(), garbage.size(), &why).empty());
+  EXPECT_EQ(why, "format 'tiff' is neither jpeg nor png");
+  EXPECT_TRUE(greyImageOfCompressed("jpeg", garbage.data(), garbage.size(), &why).empty());
+  EXPECT_EQ(why, "compressed image (jpeg, 8 bytes) does not decode");
+  EXPECT_TRUE(greyImageOfCompressed("png", nullptr, 0, &why).empty());
+  EXPECT_EQ(why, "compressed image (png) has no data");
 }
 
 }  // namespace

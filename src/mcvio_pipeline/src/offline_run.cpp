@@ -15,6 +15,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -154,6 +155,15 @@ OfflineInput readBag(const OfflineRunOptions& options) {
                      " and " + imu + ", or " + features + " and " + imu +
                      " to run the estimator alone (--remap /imu0:=TOPIC names another topic)");
   }
+  // Images come raw (sensor_msgs/Image) or compressed (sensor_msgs/CompressedImage, jpeg or png).
+  std::set<std::string> compressed;
+  for (const auto& t : reader.topics()) {
+    if ((t.name != cam0 && t.name != cam1) || from_features) continue;
+    if (t.type == "sensor_msgs/msg/CompressedImage") compressed.insert(t.name);
+    else if (t.type != "sensor_msgs/msg/Image")
+      throw InputError(options.dataset_dir + ": topic " + t.name + " has type " + t.type +
+                       ", not sensor_msgs/msg/Image or sensor_msgs/msg/CompressedImage");
+  }
   if (from_features) {
     for (const auto& t : reader.topics())
       if (t.name == features && t.type != "mcvio_msgs/msg/FeatureFrame")
@@ -197,9 +207,13 @@ OfflineInput readBag(const OfflineRunOptions& options) {
       const auto& bytes = std::get<rosmsg::MessageValue::Bytes>(value["data"].value);
       const auto field = [&](const char* name) { return static_cast<std::uint32_t>(std::get<std::uint64_t>(value[name].value)); };
       std::string why;
-      cv::Mat grey = dataset::greyImageOf({std::get<std::string>(value["encoding"].value), field("width"), field("height"),
-                                           field("step"), field("is_bigendian") != 0, bytes.data(), bytes.size()},
-                                          &why);
+      cv::Mat grey = compressed.count(m.topic)
+                         ? dataset::greyImageOfCompressed(std::get<std::string>(value["format"].value), bytes.data(),
+                                                          bytes.size(), &why)
+                         : dataset::greyImageOf({std::get<std::string>(value["encoding"].value), field("width"),
+                                                 field("height"), field("step"), field("is_bigendian") != 0,
+                                                 bytes.data(), bytes.size()},
+                                                &why);
       if (grey.empty()) {
         in.warnings.push_back(reader.where(m) + ": " + why + "; skipped");
         continue;

@@ -32,8 +32,8 @@ void addRunCommand(CLI::App& app, CommandContext&) {
       "on the recorded features: on the bag of `mcvio demo` it gives exactly what the DDS backend published,\n"
       "and other modes or options can be tried on the same input:\n"
       "  mcvio run --dataset /tmp/mcvio_demo/elevator/bag --calib /tmp/mcvio_demo/elevator/data --mode reference --out /tmp/ref\n"
-      "A bag from other drivers: --remap names its topics; images may be mono8, mono16, rgb8, bgr8, rgba8,\n"
-      "bgra8, Bayer or yuv422 (tracked as 8-bit grey):\n"
+      "A bag from other drivers: --remap names its topics; images may be sensor_msgs/Image in mono8, mono16,\n"
+      "rgb8, bgr8, rgba8, bgra8, Bayer or yuv422, or sensor_msgs/CompressedImage (jpeg, png), tracked as grey:\n"
       "  mcvio run --dataset /data/d435i_bag --calib /data/d435i_euroc --out /tmp/d435i \\\n"
       "    --remap /cam0/image_raw:=/camera/infra1/image_rect_raw --remap /cam1/image_raw:=/camera/infra2/image_rect_raw \\\n"
       "    --remap /imu0:=/camera/imu");

@@ -29,6 +29,13 @@ struct FrontendComponentOptions {
   Timestamp stereo_tolerance_ns = 1000000;
   /// Non-lossless: at most this many pairs wait for the tracker; older ones are dropped (logged).
   std::size_t max_queued_pairs = 4;
+  /// "raw": sensor_msgs/Image on /cam0/image_raw, /cam1/image_raw; "compressed":
+  /// sensor_msgs/CompressedImage (jpeg, png) on those names + "/compressed", as ROS 2's
+  /// image_transport names them (remapping applies to the base names).
+  std::string image_transport = "raw";
+
+  /// Throws std::invalid_argument naming the field.
+  void validate() const;
 };
 
 struct FrontendComponentStats {
@@ -36,7 +43,8 @@ struct FrontendComponentStats {
   std::size_t unpaired_images = 0, bad_images = 0;
 };
 
-/// The frontend component: subscribes /cam0/image_raw, /cam1/image_raw and /imu0, pairs the
+/// The frontend component: subscribes /cam0/image_raw, /cam1/image_raw (or their /compressed
+/// streams) and /imu0, pairs the
 /// images by stamp, tracks them with frontend::FeatureTracker on its own thread and publishes
 /// /mcvio/features (mcvio_msgs/FeatureFrame) and, when asked, /mcvio/tracks_image.
 /// Bad frames (wrong size or encoding, missing right image, out of order, no calibration) are

@@ -28,4 +28,10 @@ const char* supportedImageEncodings();
 /// row or data shorter than step x height returns an empty image and says why in `why`.
 cv::Mat greyImageOf(const SensorImageView& image, std::string* why);
 
+/// The same for a sensor_msgs/CompressedImage (image_transport "compressed"): `format` as the
+/// publisher wrote it ("jpeg", "png", "bgr8; jpeg compressed bgr8", ...), `data` the encoded
+/// file, decoded to 8-bit grey. compressedDepth images, other codecs and data that does not
+/// decode return an empty image and say why.
+cv::Mat greyImageOfCompressed(const std::string& format, const std::uint8_t* data, std::size_t size, std::string* why);
+
 }  // namespace mcvio::dataset
