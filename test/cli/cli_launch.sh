@@ -123,6 +123,9 @@ expect 2 "--remap names a bag's topics; $tmp/seq is a EuRoC folder" -- \
 expect 2 "remap rule '/imu0': expected FROM:=TO" -- "$mcvio" --domain "$domain" backend --calib "$tmp/seq" --remap /imu0
 printf 'components:\n  - component: recorder\n    output: %s\n    all: true\n    remap: [/a:=/b]\n' "$tmp/nobag" > "$tmp/rrec.yaml"
 expect 2 "'remap' is for players, frontends and backends" -- "$mcvio" --domain "$domain" launch "$tmp/rrec.yaml"
+printf 'components:\n  - component: frontend\n    calibration: %s\n    image_transport: h264\n' "$tmp/seq" > "$tmp/tbad.yaml"
+expect 2 "'image_transport' is 'h264'; it must be raw or compressed" -- "$mcvio" --domain "$domain" launch "$tmp/tbad.yaml"
+expect 105 "--image-transport: h264 not in {raw,compressed}" -- "$mcvio" --domain "$domain" frontend --calib "$tmp/seq" --image-transport h264
 printf 'components:\n  - component: backend\n    calibration: %s\n    remap: [{from: /imu0}]\n' "$tmp/seq" > "$tmp/rbad.yaml"
 expect 2 "remap[0] must be FROM:=TO or a map with exactly 'from' and 'to'" -- "$mcvio" --domain "$domain" launch "$tmp/rbad.yaml"
 
