@@ -70,6 +70,8 @@ if [ "${remapped_poses:-0}" -gt 0 ] && [ "$remapped_poses" = "$poses" ] && "$mcv
 else
   echo "FAIL: the remapped launch's bag:"; "$mcvio" bag info "$tmp/rbag" | grep -F Topic; failed=1
 fi
+expect 0 "remap /nope:=/x: $tmp/rbag has no topic /nope" -- \
+  "$mcvio" --domain "$domain" play "$tmp/rbag" --remap /driver/imu:=/imu0 --remap /nope:=/x --wait-for-readers 0 -q --rate 50
 expect 0 "poses" -- "$mcvio" run --dataset "$tmp/seq" --out "$tmp/run_euroc" -q
 expect 0 "poses" -- "$mcvio" run --dataset "$tmp/rbag" --calib "$tmp/seq" --out "$tmp/run_rbag" -q \
   --remap /cam0/image_raw:=/driver/left/image_raw --remap /cam1/image_raw:=/driver/right/image_raw --remap /imu0:=/driver/imu
