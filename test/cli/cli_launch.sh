@@ -119,6 +119,12 @@ else
   echo "FAIL: mcvio run --calib KALIBR differs from the EuRoC run"; failed=1
 fi
 expect 2 "neither a EuRoC folder" -- "$mcvio" run --dataset "$tmp/seq" --calib "$tmp" --out "$tmp/run_nocalib" -q
+baseline=$("$mcvio" calib "$tmp/seq" | grep '^stereo:')
+expect 0 "$baseline" -- "$mcvio" calib "$tmp/kalibr"
+expect 0 "wrote $tmp/kalibr_euroc/mav0/{cam0,cam1,imu0}/sensor.yaml" -- "$mcvio" calib "$tmp/kalibr" --to-euroc "$tmp/kalibr_euroc"
+expect 0 "$baseline" -- "$mcvio" calib "$tmp/kalibr_euroc"
+expect 2 "$tmp/kalibr_euroc/mav0: already exists" -- "$mcvio" calib "$tmp/kalibr" --to-euroc "$tmp/kalibr_euroc"
+
 expect 2 "the bag has no /cam0/image_raw (it holds " -- "$mcvio" run --dataset "$tmp/rbag" --calib "$tmp/seq" --out "$tmp/run_rbag2" -q
 expect 2 "--remap names a bag's topics; $tmp/seq is a EuRoC folder" -- \
   "$mcvio" run --dataset "$tmp/seq" --out "$tmp/run_r3" -q --remap /imu0:=/driver/imu

@@ -47,6 +47,7 @@ int main(int argc, char** argv) {
       "  mcvio sim --scenario elevator --out /tmp/elevator   render a sequence with a motion conflict\n"
       "  mcvio play /tmp/elevator --rate 2  publish a EuRoC folder on the bus\n"
       "  mcvio record -o /tmp/run --all     record the bus to a rosbag2 bag (MCAP)\n"
+      "  mcvio calib DIR                   the stereo-inertial calibration as mcvio reads it (EuRoC or Kalibr)\n"
       "  mcvio frontend --calib DIR         stereo tracking on the bus: /mcvio/features\n"
       "  mcvio backend --calib DIR --mode auto   the estimator on the bus: /mcvio/odometry, /tf, /mcvio/conflict\n"
       "  mcvio launch config/pipeline.yaml data:=DIR   player + frontend + backend (+ recorder), one process or one each\n"
@@ -113,6 +114,7 @@ int main(int argc, char** argv) {
   addBackendCommand(app, ctx);
   addRunCommand(app, ctx);
   addLaunchCommand(app, ctx);
+  addCalibCommand(app, ctx);
   // CLI11 answers an unknown command with "A subcommand is required"; name it and the known ones.
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];

@@ -41,6 +41,7 @@ void addFrontendCommand(CLI::App& app, CommandContext& ctx);
 void addBackendCommand(CLI::App& app, CommandContext& ctx);
 void addRunCommand(CLI::App& app, CommandContext& ctx);
 void addLaunchCommand(CLI::App& app, CommandContext& ctx);
+void addCalibCommand(CLI::App& app, CommandContext& ctx);
 
 /// CLI11's NonNegativeNumber lets NaN through (NaN < 0 is false): a finite number >= 0 (or > 0).
 inline CLI::Validator finiteAtLeastZero(bool zero_allowed = true) {

@@ -1,0 +1,110 @@
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "commands/command_context.hpp"
+#include "mcvio/core/input_error.hpp"
+#include "mcvio/dataset/rig_calibration_reader.hpp"
+#include "mcvio/dataset/sensor_yaml.hpp"
+
+namespace mcvio::cli {
+namespace {
+
+std::string vec3(const Eigen::Vector3d& v, int precision) {
+  char b[96];
+  std::snprintf(b, sizeof(b), "[%.*f, %.*f, %.*f]", precision, v.x(), precision, v.y(), precision, v.z());
+  return b;
+}
+
+// What mcvio reads from the calibration: the numbers a wrong file or a wrong convention shows in.
+std::string describe(const StereoRigCalibration& rig) {
+  std::ostringstream os;
+  os.setf(std::ios::fixed);
+  for (int i = 0; i < 2; ++i) {
+    const CameraCalibration& c = rig.camera(i);
+    const CameraModel& m = c.model;
+    const Eigen::Vector4d& d = m.distortionCoefficients();
+    os.precision(3);
+    os << "cam" << i << ": " << m.width() << "x" << m.height() << " pinhole, fu " << m.fu() << " fv " << m.fv()
+       << " cu " << m.cu() << " cv " << m.cv() << ", " << toString(m.distortionModel());
+    if (m.distortionModel() != DistortionModel::kNone) {
+      char b[128];
+      std::snprintf(b, sizeof(b), " [%.6g, %.6g, %.6g, %.6g]", d[0], d[1], d[2], d[3]);
+      os << b;
+    }
+    os << "\n      in the IMU frame: position " << vec3(c.T_BC.translation(), 4) << " m, optical axis "
+       << vec3(c.T_BC.linear().col(2), 3) << "\n";
+  }
+  const Eigen::Isometry3d T_C0C1 = rig.T_C0C1();
+  os.precision(4);
+  os << "stereo: baseline " << rig.baseline() << " m; cam1 in cam0: position " << vec3(T_C0C1.translation(), 4)
+     << " m, rotated by ";
+  os.precision(3);
+  os << Eigen::AngleAxisd(T_C0C1.linear()).angle() * 180.0 / M_PI << " degrees\n";
+  os << "camera time shift: " << static_cast<double>(rig.camera_time_offset_ns) * 1e-6
+     << " ms (IMU time = camera stamp + shift)\n";
+  const ImuNoiseParams& n = rig.imu.noise;
+  os.unsetf(std::ios::fixed);
+  os << "imu0: " << n.rate_hz << " Hz; gyroscope noise " << n.gyroscope_noise_density << " rad/s/sqrt(Hz), random walk "
+     << n.gyroscope_random_walk << " rad/s^2/sqrt(Hz); accelerometer noise " << n.accelerometer_noise_density
+     << " m/s^2/sqrt(Hz), random walk " << n.accelerometer_random_walk << " m/s^3/sqrt(Hz)\n";
+  return os.str();
+}
+
+}  // namespace
+
+void addCalibCommand(CLI::App& app, CommandContext&) {
+  struct Options {
+    std::string path, to_euroc;
+  };
+  auto opt = std::make_shared<Options>();
+  auto* cmd = app.add_subcommand(
+      "calib",
+      "Show the stereo-inertial calibration as mcvio reads it from what --calib takes: a EuRoC folder\n"
+      "(cam0/cam1/imu0 sensor.yaml) or Kalibr's camchain-imucam YAML (file, or its folder) with its\n"
+      "imu*.yaml beside it. Prints each camera's intrinsics, distortion, position and optical axis in the\n"
+      "IMU frame, the stereo baseline, the camera time shift and the IMU noise; --to-euroc writes the\n"
+      "same as EuRoC sensor.yaml files (DIR/mav0/cam0, cam1, imu0), usable as --calib DIR.\n"
+      "Examples:\n"
+      "  mcvio calib ../shared/data/euroc_V1_01_excerpt\n"
+      "  mcvio calib /data/kalibr/camchain-imucam-run1.yaml\n"
+      "  mcvio calib /data/kalibr --to-euroc /data/rig_euroc");
+  cmd->add_option("calibration", opt->path, "EuRoC folder, Kalibr camchain-imucam YAML, or the folder holding it")->required();
+  cmd->add_option("--to-euroc", opt->to_euroc,
+                  "write the calibration as EuRoC sensor.yaml files below DIR/mav0 (DIR/mav0 must not exist)");
+  cmd->callback([opt] {
+    const StereoRigCalibration rig = dataset::RigCalibrationReader::read(opt->path);
+    std::cout << "calibration: " << opt->path << "\n" << describe(rig);
+    if (opt->to_euroc.empty()) return;
+    namespace fs = std::filesystem;
+    const fs::path mav0 = fs::path(opt->to_euroc) / "mav0";
+    std::error_code ec;
+    if (fs::exists(mav0, ec)) throw InputError(mav0.string() + ": already exists; --to-euroc writes a new folder");
+    for (const char* sensor : {"cam0", "cam1", "imu0"}) {
+      fs::create_directories(mav0 / sensor, ec);
+      if (ec) throw InputError((mav0 / sensor).string() + ": cannot create it (" + ec.message() + ")");
+    }
+    for (int i = 0; i < 2; ++i) {
+      CameraCalibration cam = rig.camera(i);
+      cam.name = "cam" + std::to_string(i);
+      dataset::SensorYaml::writeCamera((mav0 / cam.name / "sensor.yaml").string(), cam);
+    }
+    dataset::SensorYaml::writeImu((mav0 / "imu0" / "sensor.yaml").string(), rig.imu);
+    std::cout << "wrote " << mav0.string() << "/{cam0,cam1,imu0}/sensor.yaml\n";
+    const bool euroc_source = fs::is_directory(opt->path, ec) &&
+                              (fs::exists(fs::path(opt->path) / "mav0", ec) || fs::exists(fs::path(opt->path) / "cam0", ec));
+    if (!euroc_source) {
+      std::cerr << "mcvio calib: note: Kalibr's files give no camera frame rate; the sensor.yaml files say rate_hz "
+                << rig.cam0.rate_hz << " (mcvio does not use it; edit it for other tools)\n";
+    }
+    if (rig.camera_time_offset_ns != 0) {
+      std::cerr << "mcvio calib: warning: EuRoC's sensor.yaml has no camera time shift; the " << opt->to_euroc
+                << " calibration leaves out the " << static_cast<double>(rig.camera_time_offset_ns) * 1e-6
+                << " ms shift (keep giving the Kalibr files to apply it)\n";
+    }
+  });
+}
+
+}  // namespace mcvio::cli
