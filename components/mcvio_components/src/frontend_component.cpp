@@ -200,6 +200,8 @@ FrontendComponent::FrontendComponent(std::shared_ptr<dds::Node> node, FrontendCo
 
 FrontendComponent::~FrontendComponent() = default;
 
+std::vector<std::string> FrontendComponent::imageTopics() const { return {impl_->image_topic[0], impl_->image_topic[1]}; }
+
 FrontendComponentStats FrontendComponent::stats() const {
   std::lock_guard<std::mutex> lock(impl_->mutex);
   return impl_->stats;

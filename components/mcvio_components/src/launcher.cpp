@@ -118,9 +118,9 @@ Launcher::Result Launcher::run(const Control& control) {
             s.participant = participantFor(e, nullptr);
             auto node = s.participant->createNode(e.name, e.node_namespace, e.remapping);
             s.frontend = std::make_unique<FrontendComponent>(node, e.frontend);
-            const std::string suffix = e.frontend.image_transport == "compressed" ? "/compressed" : "";
-            say("frontend '" + e.name + "' tracking " + node->resolveTopic("/cam0/image_raw") + suffix + " + " +
-                node->resolveTopic("/cam1/image_raw") + suffix + " (calibration " + e.frontend.calibration_dir + ")");
+            const auto images = s.frontend->imageTopics();
+            say("frontend '" + e.name + "' tracking " + images[0] + " + " + images[1] + " (calibration " +
+                e.frontend.calibration_dir + ")");
             warnUnusedRules(*node, e.name);
             break;
           }

@@ -49,6 +49,12 @@ StereoRigCalibration readKalibr(const fs::path& camchain) {
 
 }  // namespace
 
+bool RigCalibrationReader::isEurocFolder(const std::string& path) {
+  const fs::path p(path);
+  std::error_code ec;
+  return fs::is_directory(p, ec) && (fs::exists(p / "mav0", ec) || fs::exists(p / "cam0", ec));
+}
+
 StereoRigCalibration RigCalibrationReader::read(const std::string& path) {
   const fs::path p(path);
   std::error_code ec;
@@ -57,7 +63,7 @@ StereoRigCalibration RigCalibrationReader::read(const std::string& path) {
     return readKalibr(p);
   }
   if (!fs::is_directory(p, ec)) throw InputError(path + ": calibration folder or file does not exist (a EuRoC folder, or Kalibr's camchain-imucam YAML)");
-  if (fs::exists(p / "mav0") || fs::exists(p / "cam0")) return EurocFileReader::readCalibration(path);
+  if (isEurocFolder(path)) return EurocFileReader::readCalibration(path);
   const auto chains = yamlFiles(p, "camchain-imucam");
   if (chains.size() == 1) return readKalibr(chains.front());
   if (chains.size() > 1) throw InputError(path + ": several Kalibr camchains (" + listed(chains) + "): name one with --calib FILE");

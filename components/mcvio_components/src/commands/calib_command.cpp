@@ -6,8 +6,8 @@
 
 #include "commands/command_context.hpp"
 #include "mcvio/core/input_error.hpp"
+#include "mcvio/dataset/euroc_writer.hpp"
 #include "mcvio/dataset/rig_calibration_reader.hpp"
-#include "mcvio/dataset/sensor_yaml.hpp"
 
 namespace mcvio::cli {
 namespace {
@@ -66,7 +66,7 @@ void addCalibCommand(CLI::App& app, CommandContext&) {
       "(cam0/cam1/imu0 sensor.yaml) or Kalibr's camchain-imucam YAML (file, or its folder) with its\n"
       "imu*.yaml beside it. Prints each camera's intrinsics, distortion, position and optical axis in the\n"
       "IMU frame, the stereo baseline, the camera time shift and the IMU noise; --to-euroc writes the\n"
-      "same as EuRoC sensor.yaml files (DIR/mav0/cam0, cam1, imu0), usable as --calib DIR.\n"
+      "same as a EuRoC folder without data (DIR/mav0/cam0, cam1, imu0 sensor.yaml), usable as --calib DIR.\n"
       "Examples:\n"
       "  mcvio calib ../shared/data/euroc_V1_01_excerpt\n"
       "  mcvio calib /data/kalibr/camchain-imucam-run1.yaml\n"
@@ -82,20 +82,10 @@ void addCalibCommand(CLI::App& app, CommandContext&) {
     const fs::path mav0 = fs::path(opt->to_euroc) / "mav0";
     std::error_code ec;
     if (fs::exists(mav0, ec)) throw InputError(mav0.string() + ": already exists; --to-euroc writes a new folder");
-    for (const char* sensor : {"cam0", "cam1", "imu0"}) {
-      fs::create_directories(mav0 / sensor, ec);
-      if (ec) throw InputError((mav0 / sensor).string() + ": cannot create it (" + ec.message() + ")");
-    }
-    for (int i = 0; i < 2; ++i) {
-      CameraCalibration cam = rig.camera(i);
-      cam.name = "cam" + std::to_string(i);
-      dataset::SensorYaml::writeCamera((mav0 / cam.name / "sensor.yaml").string(), cam);
-    }
-    dataset::SensorYaml::writeImu((mav0 / "imu0" / "sensor.yaml").string(), rig.imu);
+    // The writer of every EuRoC folder mcvio makes: sensor.yaml files (and empty data.csv files).
+    dataset::EurocWriter(opt->to_euroc, rig).close();
     std::cout << "wrote " << mav0.string() << "/{cam0,cam1,imu0}/sensor.yaml\n";
-    const bool euroc_source = fs::is_directory(opt->path, ec) &&
-                              (fs::exists(fs::path(opt->path) / "mav0", ec) || fs::exists(fs::path(opt->path) / "cam0", ec));
-    if (!euroc_source) {
+    if (!dataset::RigCalibrationReader::isEurocFolder(opt->path)) {
       std::cerr << "mcvio calib: note: Kalibr's files give no camera frame rate; the sensor.yaml files say rate_hz "
                 << rig.cam0.rate_hz << " (mcvio does not use it; edit it for other tools)\n";
     }

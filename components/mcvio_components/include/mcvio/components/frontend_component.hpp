@@ -54,6 +54,8 @@ class FrontendComponent {
   FrontendComponent(std::shared_ptr<dds::Node> node, FrontendComponentOptions options);
   ~FrontendComponent();
   FrontendComponentStats stats() const;
+  /// The left and right image topics it reads, remapped (and with "/compressed" when asked).
+  std::vector<std::string> imageTopics() const;
 
  private:
   struct Impl;

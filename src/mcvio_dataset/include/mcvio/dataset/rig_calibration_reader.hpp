@@ -12,6 +12,8 @@ namespace mcvio::dataset {
 class RigCalibrationReader {
  public:
   static StereoRigCalibration read(const std::string& path);
+  /// True when `path` is read as a EuRoC folder (it holds mav0/ or cam0/), false for Kalibr's files.
+  static bool isEurocFolder(const std::string& path);
 };
 
 }  // namespace mcvio::dataset
