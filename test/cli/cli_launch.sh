@@ -4,7 +4,8 @@
 # poses in the bag), in one process and with --processes (one per component: the same bag
 # contents; a killed backend respawned), stops cleanly on Ctrl-C with the bag closed, and bad
 # launch input is named. Remapped onto a camera driver's topic names the same launch gives the
-# same poses, and `mcvio run --remap` on its bag gives those of the EuRoC folder.
+# same poses, and `mcvio run --remap` on its bag gives those of the EuRoC folder (and so do
+# Kalibr files whose rostopic names the driver's topics).
 set -u
 mcvio=$1
 file="$(cd "$(dirname "$0")/../.." && pwd)/config/pipeline.yaml"
@@ -124,6 +125,27 @@ expect 0 "$baseline" -- "$mcvio" calib "$tmp/kalibr"
 expect 0 "wrote $tmp/kalibr_euroc/mav0/{cam0,cam1,imu0}/sensor.yaml" -- "$mcvio" calib "$tmp/kalibr" --to-euroc "$tmp/kalibr_euroc"
 expect 0 "$baseline" -- "$mcvio" calib "$tmp/kalibr_euroc"
 expect 2 "$tmp/kalibr_euroc/mav0: already exists" -- "$mcvio" calib "$tmp/kalibr" --to-euroc "$tmp/kalibr_euroc"
+# Kalibr's rostopic naming the driver's topics: `mcvio run` on the driver-named bag takes them as
+# the --remap rules given by hand do (OpenVINS reads its topics from there too).
+expect 0 "wrote $tmp/kalibr_driver/camchain-imucam.yaml and imu.yaml" -- "$mcvio" calib "$tmp/seq" --to-kalibr "$tmp/kalibr_driver"
+expect 0 "$baseline" -- "$mcvio" calib "$tmp/kalibr_driver"
+expect 2 "$tmp/kalibr_driver/camchain-imucam.yaml: already exists; --to-kalibr does not overwrite" -- \
+  "$mcvio" calib "$tmp/seq" --to-kalibr "$tmp/kalibr_driver"
+sed -i 's|^  rostopic: /cam0/image_raw$|  rostopic: /driver/left/image_raw|; s|^  rostopic: /cam1/image_raw$|  rostopic: /driver/right/image_raw|' \
+  "$tmp/kalibr_driver/camchain-imucam.yaml"
+sed -i 's|^rostopic: /imu0$|rostopic: /driver/imu|' "$tmp/kalibr_driver/imu.yaml"
+expect 0 "topics (rostopic): cam0 /driver/left/image_raw, cam1 /driver/right/image_raw, imu0 /driver/imu" -- \
+  "$mcvio" calib "$tmp/kalibr_driver"
+expect 0 "reading /imu0 from /driver/imu, its rostopic in the calibration" -- \
+  "$mcvio" run --dataset "$tmp/rbag" --calib "$tmp/kalibr_driver" --out "$tmp/run_rostopic" -q
+expect 0 "poses" -- "$mcvio" run --dataset "$tmp/rbag" --calib "$tmp/kalibr_driver" --out "$tmp/run_rostopic_by_hand" -q \
+  --remap /cam0/image_raw:=/driver/left/image_raw --remap /cam1/image_raw:=/driver/right/image_raw --remap /imu0:=/driver/imu
+if [ -s "$tmp/run_rostopic/trajectory.tum" ] && cmp -s "$tmp/run_rostopic/trajectory.tum" "$tmp/run_rostopic_by_hand/trajectory.tum"; then
+  echo "ok: mcvio run with Kalibr's rostopic on the driver-named bag gives the trajectory of the --remap rules"
+else
+  echo "FAIL: mcvio run with Kalibr's rostopic differs from the --remap run"; failed=1
+fi
+expect 2 "the bag has no /imu0" -- "$mcvio" run --dataset "$tmp/rbag" --calib "$tmp/kalibr_driver" --out "$tmp/run_rostopic2" -q --remap /imu0:=/imu0
 
 expect 2 "the bag has no /cam0/image_raw (it holds " -- "$mcvio" run --dataset "$tmp/rbag" --calib "$tmp/seq" --out "$tmp/run_rbag2" -q
 expect 2 "--remap names a bag's topics; $tmp/seq is a EuRoC folder" -- \

@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "calibration_topics.hpp"
 #include "mcvio/components/ros_conversions.hpp"
 #include "mcvio/dataset/rig_calibration_reader.hpp"
 #include "mcvio/estimator/sliding_window_estimator.hpp"
@@ -85,10 +86,12 @@ struct BackendComponent::Impl {
   std::thread worker;
 
   Impl(std::shared_ptr<dds::Node> n, BackendComponentOptions o)
-      : node(std::move(n)), options(std::move(o)), imu_topic(node->resolveTopic(kImuTopic)),
-        features_topic(node->resolveTopic(kFeaturesTopic)) {
+      : node(std::move(n)), options(std::move(o)) {
     options.validate();
     rig = dataset::RigCalibrationReader::read(options.calibration_dir);
+    detail::remapToCalibratedTopics(*node, rig, false, "backend");
+    imu_topic = node->resolveTopic(kImuTopic);
+    features_topic = node->resolveTopic(kFeaturesTopic);
     estimator = std::make_unique<estimator::SlidingWindowEstimator>(options.estimator, rig);
 
     const auto in_qos = options.lossless ? dds::QosProfile::lossless() : dds::QosProfile::sensorData();

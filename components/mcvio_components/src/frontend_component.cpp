@@ -5,6 +5,7 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "calibration_topics.hpp"
 #include "mcvio/components/ros_conversions.hpp"
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/dataset/rig_calibration_reader.hpp"
@@ -55,17 +56,19 @@ struct FrontendComponent::Impl {
   std::thread worker;
 
   explicit Impl(std::shared_ptr<dds::Node> n, FrontendComponentOptions o)
-      : node(std::move(n)), options(std::move(o)), tracker(options.tracker),
-        image_topic{node->resolveTopic("/cam0/image_raw"), node->resolveTopic("/cam1/image_raw")} {
+      : node(std::move(n)), options(std::move(o)), tracker(options.tracker) {
     options.validate();
     if (!options.calibration_dir.empty()) {
       const auto rig = dataset::RigCalibrationReader::read(options.calibration_dir);
       camera_time_offset_ns = rig.camera_time_offset_ns;
       tracker.setCalibration(rig);
+      detail::remapToCalibratedTopics(*node, rig, true, "frontend");
     } else {
       std::cerr << "mcvio frontend: no --calib given: frames are skipped until a calibration is set "
                    "(camera_info has no stereo extrinsics)\n";
     }
+    image_topic[0] = node->resolveTopic("/cam0/image_raw");
+    image_topic[1] = node->resolveTopic("/cam1/image_raw");
     const auto in_qos = options.lossless ? dds::QosProfile::lossless() : dds::QosProfile::sensorData();
     const auto out_qos = options.lossless ? dds::QosProfile::lossless() : dds::QosProfile::defaults();
     features_pub = node->createPublisher<FeatureFrameMsg>("/mcvio/features", out_qos);

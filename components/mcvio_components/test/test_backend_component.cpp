@@ -20,8 +20,10 @@
 #include "mcvio/components/player.hpp"
 #include "mcvio/components/ros_conversions.hpp"
 #include "mcvio/dataset/euroc_file_reader.hpp"
+#include "mcvio/dataset/kalibr_calibration.hpp"
 #include "mcvio/estimator/sliding_window_estimator.hpp"
 #include "mcvio/pipeline/offline_run.hpp"
+#include "mcvio/sim/euroc_rig_defaults.hpp"
 #include "mcvio/sim/simulator.hpp"
 #include "component_test_support.hpp"
 
@@ -305,4 +307,38 @@ TEST(BackendComponent, OptionsAreValidated) {
   o.max_queued_frames = 10;
   o.max_imu_wait_s = NAN;
   EXPECT_THROW(o.validate(), std::invalid_argument);
+}
+
+// Kalibr's imu.yaml naming the driver's IMU topic (rostopic) brings the backend onto it, and the
+// IMU samples published there reach the estimator; a --remap rule for /imu0 still wins.
+TEST(BackendComponent, ReadsTheImuTopicKalibrNamesUnlessRemapped) {
+  const std::string dir = (std::filesystem::temp_directory_path() / ("mcvio_backend_kalibr_" + std::to_string(getpid()))).string();
+  StereoRigCalibration rig = sim::eurocRigDefaults();
+  rig.imu.topic = "/driver/imu";
+  dataset::KalibrCalibration::write(rig, dir);
+  auto participant = mcvio::dds::Participant::create(testParticipantOptions(73));
+  components::BackendComponentOptions bo;
+  bo.calibration_dir = dir;
+  bo.lossless = true;
+  auto node = participant->createNode("backend");
+  components::BackendComponent backend(node, bo);
+  EXPECT_EQ(node->resolveTopic("/imu0"), "/driver/imu");
+  auto kept_node = participant->createNode("kept_backend", "/mcvio", TopicRemapping::parse({"/imu0:=/imu0"}));
+  components::BackendComponent kept(kept_node, bo);
+  EXPECT_EQ(kept_node->resolveTopic("/imu0"), "/imu0");
+
+  auto pub = participant->createNode("driver");
+  auto imu = pub->createPublisher<sensor_msgs::msg::dds_::Imu_>("/driver/imu", mcvio::dds::QosProfile::lossless());
+  ASSERT_TRUE(imu->waitForReaders(1, 10s));
+  ImuSample s;
+  s.accel = {0, 0, 9.81};
+  for (int i = 0; i < 5; ++i) {
+    s.t = 1000000000 + i * 5000000;
+    imu->publish(components::toImuMsg(s, "imu0"));
+  }
+  const auto deadline = std::chrono::steady_clock::now() + 20s;
+  while (std::chrono::steady_clock::now() < deadline && backend.stats().imu_received < 5) std::this_thread::sleep_for(20ms);
+  EXPECT_EQ(backend.stats().imu_received, 5u);
+  EXPECT_EQ(kept.stats().imu_received, 0u);
+  std::filesystem::remove_all(dir);
 }

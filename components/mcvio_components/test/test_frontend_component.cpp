@@ -1,6 +1,7 @@
 // The frontend component on the bus: the real excerpt played losslessly yields one FeatureFrame per
 // stereo pair, each with at least 120 stereo-matched features; bad images are skipped, not fatal;
-// colour images on a driver's topic names (remapped) give the features of their grey.
+// colour images on a driver's topic names (remapped, or named by Kalibr's rostopic) give the
+// features of their grey.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -13,6 +14,7 @@
 #include "mcvio/components/frontend_component.hpp"
 #include "mcvio/components/player.hpp"
 #include "mcvio/components/ros_conversions.hpp"
+#include "mcvio/dataset/kalibr_calibration.hpp"
 #include "component_test_support.hpp"
 
 using namespace mcvio;
@@ -139,6 +141,27 @@ TEST(FrontendComponent, ColourImagesOnADriversTopicsGiveTheFeaturesOfTheirGrey) 
   png_fo.image_transport = "compressed";
   components::FrontendComponent png_frontend(
       participant->createNode("png_frontend", "/", TopicRemapping::parse({"/mcvio/features:=/png/features"})), png_fo);
+  // Kalibr's files naming the driver's topics (rostopic) bring the frontend onto them without
+  // --remap, as OpenVINS takes them; a --remap rule for a sensor still wins.
+  StereoRigCalibration kalibr_rig = data.calibration();
+  kalibr_rig.cam0.topic = "/driver/left/image_color";
+  kalibr_rig.cam1.topic = "/driver/right/image_color";
+  kalibr_rig.imu.topic = "/driver/imu";
+  dataset::KalibrCalibration::write(kalibr_rig, dir + "/kalibr");
+  auto kalibr_fo = fo;
+  kalibr_fo.calibration_dir = dir + "/kalibr/camchain-imucam.yaml";
+  auto kalibr_node = participant->createNode("kalibr_frontend", "/", TopicRemapping::parse({"/mcvio/features:=/kalibr/features"}));
+  components::FrontendComponent kalibr_frontend(kalibr_node, kalibr_fo);
+  EXPECT_EQ(kalibr_frontend.imageTopics(), (std::vector<std::string>{"/driver/left/image_color", "/driver/right/image_color"}));
+  EXPECT_EQ(kalibr_node->resolveTopic("/imu0"), "/driver/imu");
+  std::vector<FeatureFrame> kalibr_frames;
+  auto kalibr_sub = collectFeatures(*listener, "/kalibr/features", m, kalibr_frames);
+  {
+    auto keep_node = participant->createNode("kept_frontend", "/", TopicRemapping::parse({"/cam0/image_raw:=/cam0/image_raw"}));
+    components::FrontendComponent kept(keep_node, kalibr_fo);
+    EXPECT_EQ(kept.imageTopics(), (std::vector<std::string>{"/cam0/image_raw", "/driver/right/image_color"}));
+    EXPECT_TRUE(keep_node->unusedRemapRules().empty());
+  }
 
   using ImageMsg = sensor_msgs::msg::dds_::Image_;
   using ImuMsg = sensor_msgs::msg::dds_::Imu_;
@@ -196,7 +219,7 @@ TEST(FrontendComponent, ColourImagesOnADriversTopicsGiveTheFeaturesOfTheirGrey) 
   while (std::chrono::steady_clock::now() < deadline) {
     {
       std::lock_guard<std::mutex> lock(m);
-      if (grey_frames.size() == n && colour_frames.size() == n && png_frames.size() == n) break;
+      if (grey_frames.size() == n && colour_frames.size() == n && png_frames.size() == n && kalibr_frames.size() == n) break;
     }
     std::this_thread::sleep_for(20ms);
   }
@@ -205,16 +228,19 @@ TEST(FrontendComponent, ColourImagesOnADriversTopicsGiveTheFeaturesOfTheirGrey) 
   ASSERT_EQ(grey_frames.size(), n);
   ASSERT_EQ(colour_frames.size(), n);
   ASSERT_EQ(png_frames.size(), n);
+  ASSERT_EQ(kalibr_frames.size(), n);
   EXPECT_EQ(colour_frontend.stats().bad_images, 0u);
   EXPECT_EQ(png_frontend.stats().bad_images, 0u);
   for (std::size_t i = 0; i < n; ++i) {
     ASSERT_EQ(colour_frames[i].features.size(), grey_frames[i].features.size()) << "frame " << i;
     ASSERT_EQ(png_frames[i].features.size(), grey_frames[i].features.size()) << "frame " << i;
+    ASSERT_EQ(kalibr_frames[i].features.size(), grey_frames[i].features.size()) << "frame " << i;
     ASSERT_GT(grey_frames[i].features.size(), 50u) << "frame " << i;
     for (std::size_t k = 0; k < grey_frames[i].features.size(); ++k) {
       EXPECT_EQ(colour_frames[i].features[k].track_id, grey_frames[i].features[k].track_id);
       EXPECT_EQ(colour_frames[i].features[k].pixel, grey_frames[i].features[k].pixel);
       EXPECT_EQ(png_frames[i].features[k].pixel, grey_frames[i].features[k].pixel);
+      EXPECT_EQ(kalibr_frames[i].features[k].pixel, grey_frames[i].features[k].pixel);
     }
   }
 }

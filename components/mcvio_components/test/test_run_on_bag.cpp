@@ -1,6 +1,7 @@
 // A bag recorded from a lossless playback of the real excerpt runs through `mcvio run` to the
 // same trajectory as the EuRoC folder itself: what went over DDS is what the offline run sees.
-// So does a driver's bag of compressed images on its own topic names (remapped).
+// So does a driver's bag of compressed images on its own topic names (remapped, or named by
+// Kalibr's rostopic).
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -20,6 +21,7 @@
 #include "mcvio/components/player.hpp"
 #include "mcvio/components/recorder.hpp"
 #include "mcvio/components/ros_conversions.hpp"
+#include "mcvio/dataset/kalibr_calibration.hpp"
 #include "mcvio/interfaces/message_registry.hpp"
 #include "mcvio/pipeline/offline_run.hpp"
 #include "component_test_support.hpp"
@@ -289,6 +291,26 @@ TEST(RunOnBag, CompressedImagesOnADriversTopicsGiveTheEurocTrajectory) {
   EXPECT_EQ(b.estimated, a.estimated);
   EXPECT_EQ(b.skipped, 0u);
   EXPECT_EQ(lines(base + "/from_bag/trajectory.tum"), lines(base + "/from_euroc/trajectory.tum"));
+
+  // Kalibr's files naming the driver's topics (rostopic) choose them without --remap, as the
+  // same rules given by hand do; a --remap rule for a sensor still wins.
+  StereoRigCalibration rig = data.calibration();
+  rig.cam0.topic = "/stereo/left/image_raw/compressed";
+  rig.cam1.topic = "/stereo/right/image_raw/compressed";
+  rig.imu.topic = "/stereo/imu";
+  dataset::KalibrCalibration::write(rig, base + "/kalibr");
+  pipeline::OfflineRunOptions kalibr = from_bag;
+  kalibr.calibration_dir = base + "/kalibr";
+  kalibr.output_dir = base + "/from_kalibr_remapped";
+  const auto by_hand = pipeline::runOffline(kalibr);
+  kalibr.remapping = {};
+  kalibr.output_dir = base + "/from_kalibr";
+  const auto by_rostopic = pipeline::runOffline(kalibr);
+  EXPECT_EQ(by_rostopic.estimated, by_hand.estimated);
+  EXPECT_GT(by_rostopic.estimated, 30u);
+  EXPECT_EQ(lines(base + "/from_kalibr/trajectory.tum"), lines(base + "/from_kalibr_remapped/trajectory.tum"));
+  kalibr.remapping = TopicRemapping::parse({"/imu0:=/imu0"});
+  EXPECT_NE(inputErrorOf(kalibr).find("the bag has no /imu0"), std::string::npos) << inputErrorOf(kalibr);
 
   pipeline::OfflineRunOptions damaged = from_bag;
   damaged.dataset_dir = base + "/damaged";

@@ -20,11 +20,18 @@ Node::~Node() { participant_->removeNode(key_); }
 
 std::string Node::resolveTopic(std::string_view topic) const {
   const std::string abs = absoluteTopicName(topic);
-  {
-    std::lock_guard<std::mutex> lock(asked_mutex_);
-    asked_.insert(abs);
-  }
+  std::lock_guard<std::mutex> lock(asked_mutex_);
+  asked_.insert(abs);
   return remapping_.resolve(abs);
+}
+
+bool Node::remapByDefault(std::string_view from, std::string_view to) {
+  std::lock_guard<std::mutex> lock(asked_mutex_);
+  const std::string abs = absoluteTopicName(from);
+  for (const auto& r : remapping_.rules())
+    if (r.from == abs) return false;
+  remapping_.add(abs, to);
+  return true;
 }
 
 std::vector<std::string> Node::unusedRemapRules() const {

@@ -174,6 +174,12 @@ TEST(PubSub, RemappedNodeUsesTheTargetTopicsOnTheBus) {
   auto out = remapped->createPublisher<Imu>("cam9/typo", QosProfile::defaults());
   EXPECT_EQ(out->topic(), "/nowhere");
   EXPECT_TRUE(remapped->unusedRemapRules().empty());
+  // A default learnt later (a calibration's topic) gives way to a rule the node was given.
+  EXPECT_FALSE(remapped->remapByDefault("/imu0", "/calibrated/imu"));
+  EXPECT_EQ(remapped->resolveTopic("/imu0"), "/camera/imu");
+  EXPECT_TRUE(remapped->remapByDefault("cam0/image_raw", "/calibrated/left"));
+  EXPECT_EQ(remapped->resolveTopic("/cam0/image_raw"), "/calibrated/left");
+  EXPECT_THROW(remapped->remapByDefault("/cam1/image_raw", "not a name"), mcvio::InputError);
 }
 
 TEST(PubSub, LosslessProfileDeliversEverySampleToASlowReader) {

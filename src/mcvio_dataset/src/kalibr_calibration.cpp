@@ -4,10 +4,13 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <vector>
 
 #include "calibration_checks.hpp"
 #include "mcvio/core/input_error.hpp"
+#include "mcvio/core/ros_topic_name.hpp"
 #include "mcvio/core/yaml_file.hpp"
 #include "number_format.hpp"
 #include "yaml_section.hpp"
@@ -78,6 +81,15 @@ CameraCalibration readCamera(const Section& cam, const std::string& name) {
   return calibration;
 }
 
+// Kalibr's rostopic: the topic the sensor was calibrated on (absolute), or "" when not given.
+std::string topicOf(const Section& section) {
+  if (!section.has("rostopic")) return {};
+  const std::string name = section.text("rostopic");
+  const std::string problem = rosTopicNameError(name);
+  if (!problem.empty()) section.fail(section.require("rostopic"), "rostopic", "'" + name + "' is not a ROS topic name: " + problem);
+  return absoluteTopicName(name);
+}
+
 Section sectionOf(const std::string& path, const YAML::Node& root, const std::string& name) {
   const YAML::Node n = root[name];
   if (!n) throw InputError(path + ": no '" + name + "' (a Kalibr camchain lists cam0 and cam1)");
@@ -94,6 +106,10 @@ StereoRigCalibration KalibrCalibration::read(const std::string& camchain_path, c
   const Section cam0 = sectionOf(camchain_path, chain, "cam0"), cam1 = sectionOf(camchain_path, chain, "cam1");
   rig.cam0 = readCamera(cam0, "cam0");
   rig.cam1 = readCamera(cam1, "cam1");
+  rig.cam0.topic = topicOf(cam0);
+  rig.cam1.topic = topicOf(cam1);
+  if (!rig.cam0.topic.empty() && rig.cam0.topic == rig.cam1.topic)
+    cam1.fail(cam1.require("rostopic"), "rostopic", "is cam0's too (" + rig.cam0.topic + "): the left and right images need a topic each");
   if (!cam0.has("T_cam_imu")) {
     throw InputError(camchain_path + ": cam0: missing key 'T_cam_imu': this is a camera-only camchain; mcvio needs the "
                      "camera-IMU one (kalibr_calibrate_imu_camera's camchain-imucam.yaml)");
@@ -145,7 +161,70 @@ StereoRigCalibration KalibrCalibration::read(const std::string& camchain_path, c
   rig.imu.noise.gyroscope_noise_density = imu.positive("gyroscope_noise_density");
   rig.imu.noise.gyroscope_random_walk = imu.positive("gyroscope_random_walk");
   rig.imu.noise.rate_hz = imu.positive("update_rate");
+  rig.imu.topic = topicOf(imu);
   return rig;
+}
+
+namespace {
+
+std::string numberList(const double* values, int count) {
+  std::string s = "[";
+  for (int i = 0; i < count; ++i) {
+    if (i) s += ", ";
+    detail::appendDouble(s, values[i]);
+  }
+  return s + "]";
+}
+
+std::string rowsOf(const Eigen::Isometry3d& T) {
+  std::string s;
+  for (int r = 0; r < 4; ++r) {
+    const double row[4] = {T.matrix()(r, 0), T.matrix()(r, 1), T.matrix()(r, 2), T.matrix()(r, 3)};
+    s += "  - " + numberList(row, 4) + "\n";
+  }
+  return s;
+}
+
+void writeFile(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  out.close();
+  if (!out) throw InputError(path.string() + ": cannot write it");
+}
+
+}  // namespace
+
+void KalibrCalibration::write(const StereoRigCalibration& rig, const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (!fs::is_directory(dir, ec)) throw InputError(dir + ": cannot create the folder for Kalibr's files");
+  const double shift_s = static_cast<double>(rig.camera_time_offset_ns) * 1e-9;
+  std::string chain;
+  for (int i = 0; i < 2; ++i) {
+    const CameraCalibration& c = rig.camera(i);
+    const CameraModel& m = c.model;
+    const char* model = m.distortionModel() == DistortionModel::kEquidistant       ? "equidistant"
+                        : m.distortionModel() == DistortionModel::kRadialTangential ? "radtan"
+                                                                                     : "none";
+    const std::string name = "cam" + std::to_string(i);
+    chain += name + ":\n  camera_model: pinhole\n  intrinsics: " + numberList(m.intrinsics().data(), 4) +
+             "\n  distortion_model: " + model + "\n  distortion_coeffs: " +
+             numberList(m.distortionCoefficients().data(), m.distortionModel() == DistortionModel::kNone ? 0 : 4) +
+             "\n  resolution: [" + std::to_string(m.width()) + ", " + std::to_string(m.height()) + "]\n  rostopic: " +
+             (c.topic.empty() ? "/" + name + "/image_raw" : c.topic) + "\n  timeshift_cam_imu: " + detail::formatDouble(shift_s) +
+             "\n  cam_overlaps: [" + std::to_string(1 - i) + "]\n  T_cam_imu:\n" + rowsOf(c.T_BC.inverse());
+    if (i == 1) chain += "  T_cn_cnm1:\n" + rowsOf(rig.T_C0C1().inverse());
+  }
+  const ImuNoiseParams& n = rig.imu.noise;
+  std::string imu = "accelerometer_noise_density: " + detail::formatDouble(n.accelerometer_noise_density) +
+                    "\naccelerometer_random_walk: " + detail::formatDouble(n.accelerometer_random_walk) +
+                    "\ngyroscope_noise_density: " + detail::formatDouble(n.gyroscope_noise_density) +
+                    "\ngyroscope_random_walk: " + detail::formatDouble(n.gyroscope_random_walk) +
+                    "\nrostopic: " + (rig.imu.topic.empty() ? std::string("/imu0") : rig.imu.topic) +
+                    "\nupdate_rate: " + detail::formatDouble(n.rate_hz) + "\n";
+  writeFile(fs::path(dir) / "camchain-imucam.yaml", chain);
+  writeFile(fs::path(dir) / "imu.yaml", imu);
 }
 
 }  // namespace mcvio::dataset

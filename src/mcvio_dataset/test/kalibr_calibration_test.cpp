@@ -77,6 +77,9 @@ TEST(KalibrCalibration, GivesTheRigOfTheEurocFilesWithTheTimeShift) {
     const StereoRigCalibration got = RigCalibrationReader::read(path);
     expectRig(got, rig);
     EXPECT_EQ(got.camera_time_offset_ns, -81210) << path;
+    EXPECT_EQ(got.cam0.topic, "/cam0/image_raw");
+    EXPECT_EQ(got.cam1.topic, "/cam1/image_raw");
+    EXPECT_EQ(got.imu.topic, "/imu0");
   }
   // cam1 located from cam0 alone (T_cn_cnm1), and Kalibr's results file for the IMU.
   const std::string chained = test::freshDir("kalibr_chained");
@@ -95,6 +98,63 @@ TEST(KalibrCalibration, GivesTheRigOfTheEurocFilesWithTheTimeShift) {
   writer.close();
   expectRig(RigCalibrationReader::read(euroc), rig);
   EXPECT_EQ(RigCalibrationReader::read(euroc).camera_time_offset_ns, 0);
+  EXPECT_EQ(RigCalibrationReader::read(euroc).cam0.topic, "");  // EuRoC names no topics
+  EXPECT_EQ(RigCalibrationReader::read(euroc).imu.topic, "");
+}
+
+TEST(KalibrCalibration, WrittenFilesReadBackAsTheRig) {
+  StereoRigCalibration rig = test::makeRig();
+  rig.camera_time_offset_ns = 2500000;
+  const std::string dir = test::freshDir("kalibr_written") + "/calib";
+  KalibrCalibration::write(rig, dir);
+  StereoRigCalibration got = RigCalibrationReader::read(dir);
+  expectRig(got, rig);
+  EXPECT_EQ(got.camera_time_offset_ns, rig.camera_time_offset_ns);
+  EXPECT_EQ(got.cam0.topic, "/cam0/image_raw");  // the rig named none: mcvio's own
+  EXPECT_EQ(got.cam1.topic, "/cam1/image_raw");
+  EXPECT_EQ(got.imu.topic, "/imu0");
+  rig.cam0.topic = "/left/image_raw";
+  rig.cam1.topic = "/right/image_raw";
+  rig.imu.topic = "/imu/data_raw";
+  rig.cam1.model = CameraModel(rig.cam1.model.width(), rig.cam1.model.height(), rig.cam1.model.intrinsics(),
+                               DistortionModel::kNone, Eigen::Vector4d::Zero());
+  KalibrCalibration::write(rig, dir);
+  got = RigCalibrationReader::read(dir + "/camchain-imucam.yaml");
+  expectRig(got, rig);
+  EXPECT_EQ(got.cam0.topic, "/left/image_raw");
+  EXPECT_EQ(got.cam1.topic, "/right/image_raw");
+  EXPECT_EQ(got.imu.topic, "/imu/data_raw");
+  // A file where the folder should be.
+  test::writeText(dir + "/file", "x");
+  EXPECT_THROW(KalibrCalibration::write(rig, dir + "/file"), InputError);
+}
+
+TEST(KalibrCalibration, RostopicNamesTheTopicsTheSensorsWereCalibratedOn) {
+  const StereoRigCalibration rig = test::makeRig();
+  std::string chain = camchainOf(rig);
+  const auto swap = [&chain](const std::string& from, const std::string& to) { chain.replace(chain.find(from), from.size(), to); };
+  // A driver's names, one relative (Kalibr takes them as ROS 1 did).
+  swap("rostopic: /cam0/image_raw", "rostopic: /camera/infra1/image_rect_raw");
+  swap("rostopic: /cam1/image_raw", "rostopic: camera/infra2/image_rect_raw");
+  const std::string dir = test::freshDir("kalibr_topics");
+  test::writeText(dir + "/camchain-imucam.yaml", chain);
+  std::string imu = kImuYaml;
+  imu.replace(imu.find("rostopic: /imu0"), 15, "rostopic: /camera/imu");
+  test::writeText(dir + "/imu.yaml", imu);
+  StereoRigCalibration got = RigCalibrationReader::read(dir);
+  EXPECT_EQ(got.cam0.topic, "/camera/infra1/image_rect_raw");
+  EXPECT_EQ(got.cam1.topic, "/camera/infra2/image_rect_raw");
+  EXPECT_EQ(got.imu.topic, "/camera/imu");
+  // Without rostopic: not named.
+  std::string bare = camchainOf(rig);
+  for (std::size_t at; (at = bare.find("  rostopic:")) != std::string::npos;) bare.erase(at, bare.find('\n', at) - at + 1);
+  test::writeText(dir + "/camchain-imucam.yaml", bare);
+  test::writeText(dir + "/imu.yaml", "accelerometer_noise_density: 2.0e-3\naccelerometer_random_walk: 3.0e-3\n"
+                                     "gyroscope_noise_density: 1.6968e-04\ngyroscope_random_walk: 1.9393e-05\nupdate_rate: 200.0\n");
+  got = RigCalibrationReader::read(dir);
+  EXPECT_EQ(got.cam0.topic, "");
+  EXPECT_EQ(got.cam1.topic, "");
+  EXPECT_EQ(got.imu.topic, "");
 }
 
 TEST(KalibrCalibration, BadFilesAreNamedWithTheCameraAndKey) {
@@ -144,6 +204,14 @@ TEST(KalibrCalibration, BadFilesAreNamedWithTheCameraAndKey) {
   EXPECT_NE(error(good, "").find("its IMU noise comes from Kalibr's imu*.yaml beside it"), std::string::npos);
   EXPECT_NE(error(good, "accelerometer_noise_density: 2.0e-3\n").find("imu.yaml: missing key 'accelerometer_random_walk'"), std::string::npos);
   EXPECT_NE(error(good, std::string(kImuYaml) + "update_rate: -1\n").find("imu.yaml"), std::string::npos);
+  EXPECT_NE(error(replaced("rostopic: /cam1/image_raw", "rostopic: /cam1/image raw")).find("cam1: key 'rostopic' '/cam1/image raw' is not a ROS topic name"), std::string::npos)
+      << error(replaced("rostopic: /cam1/image_raw", "rostopic: /cam1/image raw"));
+  EXPECT_NE(error(replaced("rostopic: /cam1/image_raw", "rostopic: /cam0/image_raw")).find("cam1: key 'rostopic' is cam0's too (/cam0/image_raw)"), std::string::npos);
+  {
+    std::string imu = kImuYaml;
+    imu.replace(imu.find("rostopic: /imu0"), 15, "rostopic: 7imu");
+    EXPECT_NE(error(good, imu).find("imu.yaml: key 'rostopic' '7imu' is not a ROS topic name"), std::string::npos) << error(good, imu);
+  }
   EXPECT_NE(error("cam0: [1, 2]\n").find("'cam0' must be a map of camera keys"), std::string::npos);
   {
     // Not a rotation.

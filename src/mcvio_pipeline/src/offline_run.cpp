@@ -104,6 +104,31 @@ FeatureFrame featureFrameOf(const rosmsg::MessageValue& msg, Timestamp t) {
   return f;
 }
 
+// The user's --remap rules plus, for a sensor they leave alone, the topic the calibration names
+// (Kalibr's rostopic) when the bag holds it: OpenVINS reads its topics from there too.
+TopicRemapping withCalibratedTopics(const OfflineRunOptions& options, const StereoRigCalibration& rig,
+                                    std::vector<std::string>& notes) {
+  TopicRemapping remapping = options.remapping;
+  std::set<std::string> held;
+  const bag::BagReader every_topic(options.dataset_dir);
+  for (const auto& t : every_topic.topics()) held.insert(t.name);
+  const std::pair<std::string, std::string> sensors[] = {
+      {"/cam0/image_raw", rig.cam0.topic}, {"/cam1/image_raw", rig.cam1.topic}, {"/imu0", rig.imu.topic}};
+  for (const auto& [topic, calibrated] : sensors) {
+    bool user_rule = false;  // the user's rule wins, even TOPIC:=TOPIC
+    for (const auto& r : options.remapping.rules()) user_rule |= r.from == topic;
+    if (calibrated.empty() || calibrated == topic || user_rule) continue;
+    if (!held.count(calibrated)) {
+      notes.push_back("the calibration names " + calibrated + " for " + topic + " (rostopic), and the bag has no such topic: reading " + topic);
+      continue;
+    }
+    remapping.add(topic, calibrated);
+    notes.push_back("reading " + topic + " from " + calibrated + ", its rostopic in the calibration (--remap " + topic + ":=" +
+                    topic + " keeps the default)");
+  }
+  return remapping;
+}
+
 OfflineInput readBag(const OfflineRunOptions& options) {
   if (options.calibration_dir.empty()) {
     throw InputError(options.dataset_dir + " is a bag: give --calib DIR (EuRoC sensor.yaml folder); "
@@ -111,9 +136,10 @@ OfflineInput readBag(const OfflineRunOptions& options) {
   }
   OfflineInput in;
   in.calibration = dataset::RigCalibrationReader::read(options.calibration_dir);
+  const TopicRemapping remapping = withCalibratedTopics(options, in.calibration, in.notes);
   // The bag's names for what the run reads (--remap /imu0:=/camera/imu).
-  const std::string cam0 = options.remapping.resolve("/cam0/image_raw"), cam1 = options.remapping.resolve("/cam1/image_raw");
-  const std::string imu = options.remapping.resolve("/imu0"), features = options.remapping.resolve(kFeaturesTopic);
+  const std::string cam0 = remapping.resolve("/cam0/image_raw"), cam1 = remapping.resolve("/cam1/image_raw");
+  const std::string imu = remapping.resolve("/imu0"), features = remapping.resolve(kFeaturesTopic);
   for (const auto& r : options.remapping.rules()) {
     if (r.from != "/cam0/image_raw" && r.from != "/cam1/image_raw" && r.from != "/imu0" && r.from != kFeaturesTopic)
       throw InputError("--remap " + r.from + ":=" + r.to + ": `mcvio run` reads /cam0/image_raw, /cam1/image_raw, /imu0 and " +
@@ -577,6 +603,7 @@ OfflineRunSummary runOffline(const OfflineRunOptions& options) {
 OfflineRunSummary runOffline(const OfflineInput& data, const OfflineRunOptions& options) {
   using Clock = std::chrono::steady_clock;
   namespace fs = std::filesystem;
+  for (const auto& n : data.notes) std::cerr << "mcvio run: " << n << "\n";
   for (const auto& w : data.warnings) std::cerr << "mcvio run: warning: " << w << "\n";
   if (data.frame_times.empty()) throw InputError(options.dataset_dir + ": no stereo frames to run on");
   if (data.imu.empty()) throw InputError(options.dataset_dir + ": no IMU samples");

@@ -37,8 +37,8 @@ void addBackendCommand(CLI::App& app, CommandContext& ctx) {
       "  mcvio record -o /tmp/rec --all &  mcvio play DIR --lossless");
   cmd->add_option("--calib", opt->calib,
                   "EuRoC folder whose cam0/cam1/imu0 sensor.yaml give extrinsics and IMU noise, or Kalibr's\n"
-                  "camchain-imucam YAML (file, or its folder) with its imu*.yaml beside it, e.g. "
-                  "--calib ../shared/data/euroc_V1_01_excerpt")
+                  "camchain-imucam YAML (file, or its folder) with its imu*.yaml beside it (whose rostopic, if any,\n"
+                  "is read for /imu0 unless --remap names it), e.g. --calib ../shared/data/euroc_V1_01_excerpt")
       ->required();
   cmd->add_option("--config", opt->config,
                   "YAML with `estimator:` options (a `frontend:` section is allowed and ignored here), the same file "

@@ -7,6 +7,7 @@
 #include "commands/command_context.hpp"
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/dataset/euroc_writer.hpp"
+#include "mcvio/dataset/kalibr_calibration.hpp"
 #include "mcvio/dataset/rig_calibration_reader.hpp"
 
 namespace mcvio::cli {
@@ -45,6 +46,12 @@ std::string describe(const StereoRigCalibration& rig) {
   os << Eigen::AngleAxisd(T_C0C1.linear()).angle() * 180.0 / M_PI << " degrees\n";
   os << "camera time shift: " << static_cast<double>(rig.camera_time_offset_ns) * 1e-6
      << " ms (IMU time = camera stamp + shift)\n";
+  if (!rig.cam0.topic.empty() || !rig.cam1.topic.empty() || !rig.imu.topic.empty()) {
+    const auto topic = [](const std::string& t, const char* fallback) { return t.empty() ? std::string(fallback) : t; };
+    os << "topics (rostopic): cam0 " << topic(rig.cam0.topic, "/cam0/image_raw") << ", cam1 "
+       << topic(rig.cam1.topic, "/cam1/image_raw") << ", imu0 " << topic(rig.imu.topic, "/imu0")
+       << " (frontend, backend and run read these unless --remap says otherwise)\n";
+  }
   const ImuNoiseParams& n = rig.imu.noise;
   os.unsetf(std::ios::fixed);
   os << "imu0: " << n.rate_hz << " Hz; gyroscope noise " << n.gyroscope_noise_density << " rad/s/sqrt(Hz), random walk "
@@ -57,7 +64,7 @@ std::string describe(const StereoRigCalibration& rig) {
 
 void addCalibCommand(CLI::App& app, CommandContext&) {
   struct Options {
-    std::string path, to_euroc;
+    std::string path, to_euroc, to_kalibr;
   };
   auto opt = std::make_shared<Options>();
   auto* cmd = app.add_subcommand(
@@ -65,29 +72,48 @@ void addCalibCommand(CLI::App& app, CommandContext&) {
       "Show the stereo-inertial calibration as mcvio reads it from what --calib takes: a EuRoC folder\n"
       "(cam0/cam1/imu0 sensor.yaml) or Kalibr's camchain-imucam YAML (file, or its folder) with its\n"
       "imu*.yaml beside it. Prints each camera's intrinsics, distortion, position and optical axis in the\n"
-      "IMU frame, the stereo baseline, the camera time shift and the IMU noise; --to-euroc writes the\n"
-      "same as a EuRoC folder without data (DIR/mav0/cam0, cam1, imu0 sensor.yaml), usable as --calib DIR.\n"
+      "IMU frame, the stereo baseline, the topics Kalibr's rostopic names, the camera time shift and the\n"
+      "IMU noise; --to-euroc writes the same as a EuRoC folder without data (DIR/mav0/cam0, cam1, imu0\n"
+      "sensor.yaml), usable as --calib DIR; --to-kalibr writes Kalibr's camchain-imucam.yaml and imu.yaml\n"
+      "(OpenVINS's kalibr_imucam_chain and kalibr_imu_chain take them too).\n"
       "Examples:\n"
       "  mcvio calib ../shared/data/euroc_V1_01_excerpt\n"
       "  mcvio calib /data/kalibr/camchain-imucam-run1.yaml\n"
-      "  mcvio calib /data/kalibr --to-euroc /data/rig_euroc");
+      "  mcvio calib /data/kalibr --to-euroc /data/rig_euroc\n"
+      "  mcvio calib ../shared/data/euroc_V1_01_excerpt --to-kalibr /tmp/v1_kalibr");
   cmd->add_option("calibration", opt->path, "EuRoC folder, Kalibr camchain-imucam YAML, or the folder holding it")->required();
   cmd->add_option("--to-euroc", opt->to_euroc,
                   "write the calibration as EuRoC sensor.yaml files below DIR/mav0 (DIR/mav0 must not exist)");
+  cmd->add_option("--to-kalibr", opt->to_kalibr,
+                  "write the calibration as Kalibr's DIR/camchain-imucam.yaml and DIR/imu.yaml (neither may exist);\n"
+                  "rostopic is the calibration's topics, or /cam0/image_raw, /cam1/image_raw and /imu0");
   cmd->callback([opt] {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    // Refused before anything is written: a second run must not overwrite a calibration.
+    if (!opt->to_euroc.empty() && fs::exists(fs::path(opt->to_euroc) / "mav0", ec))
+      throw InputError((fs::path(opt->to_euroc) / "mav0").string() + ": already exists; --to-euroc writes a new folder");
+    for (const char* name : {"camchain-imucam.yaml", "imu.yaml"})
+      if (!opt->to_kalibr.empty() && fs::exists(fs::path(opt->to_kalibr) / name, ec))
+        throw InputError((fs::path(opt->to_kalibr) / name).string() + ": already exists; --to-kalibr does not overwrite");
     const StereoRigCalibration rig = dataset::RigCalibrationReader::read(opt->path);
     std::cout << "calibration: " << opt->path << "\n" << describe(rig);
+    if (!opt->to_kalibr.empty()) {
+      dataset::KalibrCalibration::write(rig, opt->to_kalibr);
+      std::cout << "wrote " << (fs::path(opt->to_kalibr) / "camchain-imucam.yaml").string() << " and imu.yaml\n";
+    }
     if (opt->to_euroc.empty()) return;
-    namespace fs = std::filesystem;
     const fs::path mav0 = fs::path(opt->to_euroc) / "mav0";
-    std::error_code ec;
-    if (fs::exists(mav0, ec)) throw InputError(mav0.string() + ": already exists; --to-euroc writes a new folder");
     // The writer of every EuRoC folder mcvio makes: sensor.yaml files (and empty data.csv files).
     dataset::EurocWriter(opt->to_euroc, rig).close();
     std::cout << "wrote " << mav0.string() << "/{cam0,cam1,imu0}/sensor.yaml\n";
     if (!dataset::RigCalibrationReader::isEurocFolder(opt->path)) {
       std::cerr << "mcvio calib: note: Kalibr's files give no camera frame rate; the sensor.yaml files say rate_hz "
                 << rig.cam0.rate_hz << " (mcvio does not use it; edit it for other tools)\n";
+    }
+    if (!rig.cam0.topic.empty() || !rig.cam1.topic.empty() || !rig.imu.topic.empty()) {
+      std::cerr << "mcvio calib: note: EuRoC's sensor.yaml names no topics; with " << opt->to_euroc
+                << " as --calib, give the rostopic above with --remap (e.g. --remap /imu0:=" << (rig.imu.topic.empty() ? "TOPIC" : rig.imu.topic) << ")\n";
     }
     if (rig.camera_time_offset_ns != 0) {
       std::cerr << "mcvio calib: warning: EuRoC's sensor.yaml has no camera time shift; the " << opt->to_euroc

@@ -30,7 +30,8 @@ void addFrontendCommand(CLI::App& app, CommandContext& ctx) {
       "compressed jpeg or png; they are tracked as 8-bit grey.");
   cmd->add_option("--calib", opt->calib,
                   "stereo calibration: a EuRoC folder (cam0/cam1/imu0 sensor.yaml), or Kalibr's camchain-imucam\n"
-                  "YAML (file, or its folder) with its imu*.yaml beside it; Kalibr's timeshift_cam_imu is applied");
+                  "YAML (file, or its folder) with its imu*.yaml beside it; Kalibr's timeshift_cam_imu is applied, and\n"
+                  "its rostopic names the topics to read (unless --remap names them)");
   cmd->add_option("--config", opt->config, "YAML with frontend options (see config/frontend.yaml)");
   cmd->add_flag("--tracks-image", opt->tracks_image, "also publish /mcvio/tracks_image (rgb8) for RViz/Foxglove");
   cmd->add_flag("--lossless", opt->lossless, "reliable keep-all topics, for lossless offline pipelines");

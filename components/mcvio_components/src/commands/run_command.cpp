@@ -43,7 +43,8 @@ void addRunCommand(CLI::App& app, CommandContext&) {
       ->required();
   cmd->add_option("--calib", opt->calibration_dir,
                   "stereo calibration (required for bags): a EuRoC folder's sensor.yaml files, or Kalibr's\n"
-                  "camchain-imucam YAML (file, or its folder) with its imu*.yaml beside it (timeshift_cam_imu applied)");
+                  "camchain-imucam YAML (file, or its folder) with its imu*.yaml beside it (timeshift_cam_imu applied;\n"
+                  "on a bag, the topics rostopic names are read when the bag has them, unless --remap names them)");
   cmd->add_option("--out", opt->output_dir, "output folder (created)")->required();
   cmd->add_option("--config", opt->config_file,
                   "YAML with `frontend:` and `estimator:` option sections; keys left out keep the built-in defaults\n"

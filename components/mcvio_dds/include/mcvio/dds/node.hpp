@@ -45,6 +45,10 @@ class Node : public std::enable_shared_from_this<Node> {
   /// Rules whose FROM no publisher or subscription of this node has asked for so far, as
   /// "FROM:=TO" (a mistyped rule does nothing, so components warn about these once set up).
   std::vector<std::string> unusedRemapRules() const;
+  /// Adds FROM:=TO unless the node already has a rule for FROM (the user's rule wins); returns
+  /// whether it did. For a default a component learns once it has its node, such as the topics a
+  /// calibration names; call it before creating the endpoints it should apply to.
+  bool remapByDefault(std::string_view from, std::string_view to);
 
   /// Typed publisher of a generated ROS 2 type (see mcvio/interfaces/ros_type_traits.hpp).
   template <class T>

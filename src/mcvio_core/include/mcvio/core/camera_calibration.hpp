@@ -14,6 +14,9 @@ struct CameraCalibration {
   double rate_hz = 20.0;
   /// Camera -> body (IMU) frame: p_B = T_BC * p_C. This is EuRoC's T_BS of the camera.
   Eigen::Isometry3d T_BC = Eigen::Isometry3d::Identity();
+  /// The ROS topic the camera was calibrated on (Kalibr's rostopic, absolute), which a component
+  /// reads in place of /camN/image_raw unless told otherwise; empty: not named (EuRoC).
+  std::string topic;
 };
 
 }  // namespace mcvio

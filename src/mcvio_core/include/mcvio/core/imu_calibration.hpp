@@ -12,6 +12,9 @@ struct ImuCalibration {
   ImuNoiseParams noise;
   /// IMU sensor -> body frame: p_B = T_BS * p_S (identity in EuRoC, where the IMU is the body).
   Eigen::Isometry3d T_BS = Eigen::Isometry3d::Identity();
+  /// The ROS topic the IMU was calibrated on (Kalibr's rostopic, absolute), read in place of
+  /// /imu0 unless told otherwise; empty: not named (EuRoC).
+  std::string topic;
 };
 
 }  // namespace mcvio

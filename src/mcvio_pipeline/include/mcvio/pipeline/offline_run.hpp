@@ -76,6 +76,7 @@ struct OfflineInput {
   /// exactly what a DDS backend got. Called once per frame, in frame order.
   std::function<FeatureFrame(std::size_t)> features;
   std::vector<std::string> warnings;  ///< printed at the start of the run and kept in stats.json
+  std::vector<std::string> notes;     ///< printed at the start of the run: which topics a bag is read from
 };
 
 /// `mcvio run`: the whole pipeline over a EuRoC folder or a recorded bag without DDS, deterministic.
