@@ -74,13 +74,13 @@ fi
 expect 0 "remap /nope:=/x: $tmp/rbag has no topic /nope" -- \
   "$mcvio" --domain "$domain" play "$tmp/rbag" --remap /driver/imu:=/imu0 --remap /nope:=/x --wait-for-readers 0 -q --rate 50
 expect 0 "poses" -- "$mcvio" run --dataset "$tmp/seq" --out "$tmp/run_euroc" -q
-expect 0 "poses" -- "$mcvio" run --dataset "$tmp/rbag" --calib "$tmp/seq" --out "$tmp/run_rbag" -q \
-  --remap /cam0/image_raw:=/driver/left/image_raw --remap /cam1/image_raw:=/driver/right/image_raw --remap /imu0:=/driver/imu
-if [ -s "$tmp/run_euroc/trajectory.tum" ] && cmp -s "$tmp/run_euroc/trajectory.tum" "$tmp/run_rbag/trajectory.tum"; then
-  echo "ok: mcvio run --remap on the driver-named bag gives the EuRoC folder's trajectory"
-else
-  echo "FAIL: mcvio run --remap on the driver-named bag differs from the EuRoC run"; failed=1
-fi
+driver_remap=(--remap /cam0/image_raw:=/driver/left/image_raw --remap /cam1/image_raw:=/driver/right/image_raw --remap /imu0:=/driver/imu)
+# same_trajectory A B WHAT: runs A and B wrote the same trajectory.tum, byte for byte.
+same_trajectory() {
+  if [ -s "$1/trajectory.tum" ] && cmp -s "$1/trajectory.tum" "$2/trajectory.tum"; then echo "ok: $3"; else echo "FAIL: not so: $3"; failed=1; fi
+}
+expect 0 "poses" -- "$mcvio" run --dataset "$tmp/rbag" --calib "$tmp/seq" --out "$tmp/run_rbag" -q "${driver_remap[@]}"
+same_trajectory "$tmp/run_euroc" "$tmp/run_rbag" "mcvio run --remap on the driver-named bag gives the EuRoC folder's trajectory"
 # The sequence's calibration as Kalibr writes it (camchain-imucam + imu.yaml, no time shift):
 # `mcvio run --calib` on those gives the EuRoC run's poses.
 python3 - "$tmp/seq/mav0" "$tmp/kalibr" <<'PY'
@@ -138,13 +138,9 @@ expect 0 "topics (rostopic): cam0 /driver/left/image_raw, cam1 /driver/right/ima
   "$mcvio" calib "$tmp/kalibr_driver"
 expect 0 "reading /imu0 from /driver/imu, its rostopic in the calibration" -- \
   "$mcvio" run --dataset "$tmp/rbag" --calib "$tmp/kalibr_driver" --out "$tmp/run_rostopic" -q
-expect 0 "poses" -- "$mcvio" run --dataset "$tmp/rbag" --calib "$tmp/kalibr_driver" --out "$tmp/run_rostopic_by_hand" -q \
-  --remap /cam0/image_raw:=/driver/left/image_raw --remap /cam1/image_raw:=/driver/right/image_raw --remap /imu0:=/driver/imu
-if [ -s "$tmp/run_rostopic/trajectory.tum" ] && cmp -s "$tmp/run_rostopic/trajectory.tum" "$tmp/run_rostopic_by_hand/trajectory.tum"; then
-  echo "ok: mcvio run with Kalibr's rostopic on the driver-named bag gives the trajectory of the --remap rules"
-else
-  echo "FAIL: mcvio run with Kalibr's rostopic differs from the --remap run"; failed=1
-fi
+expect 0 "poses" -- "$mcvio" run --dataset "$tmp/rbag" --calib "$tmp/kalibr_driver" --out "$tmp/run_rostopic_by_hand" -q "${driver_remap[@]}"
+same_trajectory "$tmp/run_rostopic" "$tmp/run_rostopic_by_hand" \
+  "mcvio run with Kalibr's rostopic on the driver-named bag gives the trajectory of the --remap rules"
 expect 2 "the bag has no /imu0" -- "$mcvio" run --dataset "$tmp/rbag" --calib "$tmp/kalibr_driver" --out "$tmp/run_rostopic2" -q --remap /imu0:=/imu0
 
 expect 2 "the bag has no /cam0/image_raw (it holds " -- "$mcvio" run --dataset "$tmp/rbag" --calib "$tmp/seq" --out "$tmp/run_rbag2" -q
