@@ -77,6 +77,16 @@ sensor_msgs::msg::dds_::CameraInfo_ toCameraInfoMsg(const CameraCalibration& c, 
       msg.distortion_model("equidistant");
       msg.d({k[0], k[1], k[2], k[3]});
       break;
+    // sensor_msgs has no names for the two wide-angle models; these say which, with their two
+    // parameters in Kalibr's order (image_proc and RViz cannot rectify them).
+    case DistortionModel::kDoubleSphere:
+      msg.distortion_model("double_sphere");
+      msg.d({k[0], k[1]});
+      break;
+    case DistortionModel::kExtendedUnified:
+      msg.distortion_model("extended_unified");
+      msg.d({k[0], k[1]});
+      break;
     default:
       msg.distortion_model("plumb_bob");
       msg.d({0.0, 0.0, 0.0, 0.0, 0.0});

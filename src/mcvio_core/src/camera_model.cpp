@@ -38,6 +38,10 @@ const char* toString(DistortionModel model) {
       return "radial-tangential";
     case DistortionModel::kEquidistant:
       return "equidistant";
+    case DistortionModel::kDoubleSphere:
+      return "double-sphere";
+    case DistortionModel::kExtendedUnified:
+      return "extended-unified";
   }
   return "none";
 }
@@ -48,12 +52,28 @@ DistortionModel distortionModelFromString(const std::string& name) {
   }
   if (name == "equidistant" || name == "fisheye") return DistortionModel::kEquidistant;
   if (name == "none" || name == "pinhole") return DistortionModel::kNone;
+  if (name == "double-sphere" || name == "double_sphere" || name == "ds") return DistortionModel::kDoubleSphere;
+  if (name == "extended-unified" || name == "extended_unified" || name == "eucm") {
+    return DistortionModel::kExtendedUnified;
+  }
   throw InputError("unknown distortion model '" + name +
-                   "' (expected radial-tangential, equidistant or none)");
+                   "' (expected radial-tangential, equidistant, double-sphere, extended-unified or none)");
 }
 
 int distortionCoefficientCount(DistortionModel model) {
-  return model == DistortionModel::kNone ? 0 : 4;
+  switch (model) {
+    case DistortionModel::kNone:
+      return 0;
+    case DistortionModel::kDoubleSphere:
+    case DistortionModel::kExtendedUnified:
+      return 2;
+    default:
+      return 4;
+  }
+}
+
+bool isWideAngleModel(DistortionModel model) {
+  return model == DistortionModel::kDoubleSphere || model == DistortionModel::kExtendedUnified;
 }
 
 CameraModel::CameraModel(int width, int height, const Vec4& intrinsics, DistortionModel model,
@@ -76,6 +96,37 @@ CameraModel::CameraModel(int width, int height, const Vec4& intrinsics, Distorti
   }
   if (!coefficients_.allFinite()) {
     throw InputError("camera distortion coefficients must be finite");
+  }
+  const auto outside = [](const char* what, double value, const char* range) {
+    std::ostringstream os;
+    os << what << " = " << value << " is outside " << range;
+    throw InputError(os.str());
+  };
+  if (model == DistortionModel::kDoubleSphere) {
+    // At xi = -1 every ray through the centre lands on one pixel.
+    if (!(coefficients_[0] > -1.0 && coefficients_[0] <= 1.0)) outside("double sphere xi", coefficients_[0], "(-1, 1]");
+    if (!(coefficients_[1] >= 0.0 && coefficients_[1] <= 1.0)) outside("double sphere alpha", coefficients_[1], "[0, 1]");
+  } else if (model == DistortionModel::kExtendedUnified) {
+    if (!(coefficients_[0] >= 0.0 && coefficients_[0] <= 1.0)) outside("extended unified alpha", coefficients_[0], "[0, 1]");
+    if (!(coefficients_[1] > 0.0)) outside("extended unified beta", coefficients_[1], "(0, inf)");
+  }
+  if (distortionCoefficientCount(model) == 2) coefficients_.tail<2>().setZero();
+}
+
+void CameraModel::wideAngleDenominator(double r, double* den, double* dden_dr) const {
+  const double a = model_ == DistortionModel::kDoubleSphere ? coefficients_[1] : coefficients_[0];
+  if (model_ == DistortionModel::kDoubleSphere) {
+    const double xi = coefficients_[0];
+    const double d1 = std::sqrt(r * r + 1.0);
+    const double k = xi * d1 + 1.0, dk = xi * r / d1;
+    const double d2 = std::sqrt(r * r + k * k), dd2 = (r + k * dk) / d2;
+    *den = a * d2 + (1.0 - a) * k;
+    *dden_dr = a * dd2 + (1.0 - a) * dk;
+  } else {
+    const double beta = coefficients_[1];
+    const double rho = std::sqrt(beta * r * r + 1.0);
+    *den = a * rho + 1.0 - a;
+    *dden_dr = a * beta * r / rho;
   }
 }
 
@@ -118,8 +169,50 @@ CameraModel::Vec2 CameraModel::distort(const Vec2& p, Eigen::Matrix2d* J) const 
       }
       return s * p;
     }
+    case DistortionModel::kDoubleSphere:
+    case DistortionModel::kExtendedUnified: {
+      const double r = p.norm();
+      double den, dden;
+      wideAngleDenominator(r, &den, &dden);
+      const double s = 1.0 / den;
+      if (J) {
+        *J = s * Eigen::Matrix2d::Identity();
+        // d s / d r = -dden / den^2, and d r / d p = p^T / r.
+        if (r > kTinyRadius) *J -= (dden / (den * den * r)) * p * p.transpose();
+      }
+      return s * p;
+    }
   }
   return p;
+}
+
+bool CameraModel::undistortWideAngle(const Vec2& m, Vec2* undistorted) const {
+  // The models' closed-form unprojections, then the ray's normalised coordinates.
+  const double r2 = m.squaredNorm();
+  Eigen::Vector3d ray;
+  if (model_ == DistortionModel::kDoubleSphere) {
+    const double xi = coefficients_[0], a = coefficients_[1];
+    const double root = 1.0 - (2.0 * a - 1.0) * r2;
+    if (!(root >= 0.0)) return false;  // beyond the image circle of alpha > 1/2
+    const double mz = (1.0 - a * a * r2) / (a * std::sqrt(root) + 1.0 - a);
+    const double inner = mz * mz + (1.0 - xi * xi) * r2;
+    if (!(inner >= 0.0)) return false;
+    const double scale = (mz * xi + std::sqrt(inner)) / (mz * mz + r2);
+    ray = Eigen::Vector3d(scale * m.x(), scale * m.y(), scale * mz - xi);
+  } else {
+    const double a = coefficients_[0], beta = coefficients_[1];
+    const double root = 1.0 - (2.0 * a - 1.0) * beta * r2;
+    if (!(root >= 0.0)) return false;
+    const double mz = (1.0 - beta * a * a * r2) / (a * std::sqrt(root) + 1.0 - a);
+    ray = Eigen::Vector3d(m.x(), m.y(), mz);
+  }
+  if (!ray.allFinite() || !(ray.z() > 1e-9 * ray.norm())) return false;  // at or beyond 90 degrees
+  const Vec2 p = ray.head<2>() / ray.z();
+  if (!p.allFinite() || !inValidRange(p)) return false;
+  // The closed forms hold inside the model's valid region only; the forward map confirms it.
+  if (!((distort(p) - m).norm() < kUndistortAcceptance * (1.0 + m.norm()))) return false;
+  *undistorted = p;
+  return true;
 }
 
 bool CameraModel::undistort(const Vec2& distorted, Vec2* undistorted) const {
@@ -155,6 +248,9 @@ bool CameraModel::undistort(const Vec2& distorted, Vec2* undistorted) const {
       *undistorted = distorted * (std::tan(theta) / theta_d);
       return true;
     }
+    case DistortionModel::kDoubleSphere:
+    case DistortionModel::kExtendedUnified:
+      return undistortWideAngle(distorted, undistorted);
     case DistortionModel::kRadialTangential: {
       Vec2 p = distorted;  // start at the distorted point: distortion is a small perturbation
       Eigen::Matrix2d J;
@@ -181,6 +277,11 @@ bool CameraModel::inValidRange(const Vec2& p) const {
   // Beyond the fold of the distortion polynomial two directions map to one pixel; a positive
   // Jacobian determinant keeps the mapping one-to-one.
   if (model_ == DistortionModel::kNone) return true;
+  if (isWideAngleModel(model_)) {
+    double den, dden;
+    wideAngleDenominator(p.norm(), &den, &dden);
+    if (!(den > 0.0)) return false;
+  }
   Eigen::Matrix2d J;
   distort(p, &J);
   return J.determinant() > 0.0;
@@ -233,6 +334,11 @@ CameraModel::Vec2 CameraModel::distortedToPixel(const Vec2& d) const {
 bool CameraModel::isInImage(const Vec2& pixel, double border) const {
   return pixel.x() >= -0.5 + border && pixel.x() < width_ - 0.5 - border &&
          pixel.y() >= -0.5 + border && pixel.y() < height_ - 0.5 - border;
+}
+
+double CameraModel::focalLengthAtCentre() const {
+  const double f = 0.5 * (intrinsics_[0] + intrinsics_[1]);
+  return model_ == DistortionModel::kDoubleSphere ? f / (1.0 + coefficients_[0]) : f;
 }
 
 Eigen::Matrix3d CameraModel::cameraMatrix() const {

@@ -26,14 +26,67 @@ CameraModel pinhole() {
   return CameraModel(640, 480, {500.0, 510.0, 320.0, 240.0}, DistortionModel::kNone);
 }
 
-std::vector<CameraModel> allModels() { return {eurocCam0(), fisheye(), pinhole()}; }
+// EuRoC's cam0 as a double sphere (Basalt-like values) and as an extended unified model.
+CameraModel doubleSphere() {
+  return CameraModel(752, 480, {349.7, 348.7, 365.8, 249.3}, DistortionModel::kDoubleSphere, {-0.28, 0.57, 0, 0});
+}
+CameraModel extendedUnified() {
+  return CameraModel(752, 480, {460.1, 459.3, 365.8, 249.3}, DistortionModel::kExtendedUnified, {0.61, 1.12, 0, 0});
+}
+// A 195-degree lens (TUM-VI-like) as a double sphere: its corners look behind the camera plane.
+CameraModel wideDoubleSphere() {
+  return CameraModel(512, 512, {158.3, 158.3, 254.9, 256.9}, DistortionModel::kDoubleSphere, {-0.17, 0.59, 0, 0});
+}
+
+// The published 3D forms of the two wide-angle projections, written on p_C itself (Usenko et
+// al. 2018, eq. 40-41 and 17-18), as a check on the model's normalised-coordinate form.
+Eigen::Vector2d doubleSphere3d(const CameraModel& c, const Eigen::Vector3d& p) {
+  const double xi = c.distortionCoefficients()[0], a = c.distortionCoefficients()[1];
+  const double d1 = p.norm();
+  const double k = xi * d1 + p.z();
+  const double d2 = std::sqrt(p.x() * p.x() + p.y() * p.y() + k * k);
+  const double n = a * d2 + (1 - a) * k;
+  return {c.fu() * p.x() / n + c.cu(), c.fv() * p.y() / n + c.cv()};
+}
+Eigen::Vector2d extendedUnified3d(const CameraModel& c, const Eigen::Vector3d& p) {
+  const double a = c.distortionCoefficients()[0], b = c.distortionCoefficients()[1];
+  const double d = std::sqrt(b * (p.x() * p.x() + p.y() * p.y()) + p.z() * p.z());
+  const double n = a * d + (1 - a) * p.z();
+  return {c.fu() * p.x() / n + c.cu(), c.fv() * p.y() / n + c.cv()};
+}
+
+std::vector<CameraModel> allModels() {
+  return {eurocCam0(), fisheye(), pinhole(), doubleSphere(), extendedUnified(), wideDoubleSphere()};
+}
+
+bool isWideAngle(const CameraModel& c) { return isWideAngleModel(c.distortionModel()); }
+
+// Angle off the optical axis of the ray through a pixel, by bisection on the 3D projection.
+double offAxisDegrees(const CameraModel& c, const Eigen::Vector2d& px) {
+  const Eigen::Vector2d d = px - Eigen::Vector2d(c.cu(), c.cv());
+  const double target = d.norm();
+  const Eigen::Vector2d dir = Eigen::Vector2d(d.x() / c.fu(), d.y() / c.fv()).normalized();
+  double lo = 0.0, hi = M_PI;
+  for (int i = 0; i < 100; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    const Eigen::Vector3d ray(std::sin(mid) * dir.x(), std::sin(mid) * dir.y(), std::cos(mid));
+    const Eigen::Vector2d q = c.distortionModel() == DistortionModel::kDoubleSphere ? doubleSphere3d(c, ray)
+                                                                                      : extendedUnified3d(c, ray);
+    ((q - Eigen::Vector2d(c.cu(), c.cv())).norm() < target ? lo : hi) = mid;
+  }
+  return lo * 180.0 / M_PI;
+}
 
 TEST(CameraModel, DistortionModelNames) {
   EXPECT_EQ(distortionModelFromString("radial-tangential"), DistortionModel::kRadialTangential);
   EXPECT_EQ(distortionModelFromString("equidistant"), DistortionModel::kEquidistant);
   EXPECT_EQ(distortionModelFromString("none"), DistortionModel::kNone);
+  EXPECT_EQ(distortionModelFromString("ds"), DistortionModel::kDoubleSphere);
+  EXPECT_EQ(distortionModelFromString("eucm"), DistortionModel::kExtendedUnified);
+  EXPECT_EQ(distortionCoefficientCount(DistortionModel::kDoubleSphere), 2);
   for (auto m : {DistortionModel::kNone, DistortionModel::kRadialTangential,
-                 DistortionModel::kEquidistant}) {
+                 DistortionModel::kEquidistant, DistortionModel::kDoubleSphere,
+                 DistortionModel::kExtendedUnified}) {
     EXPECT_EQ(distortionModelFromString(toString(m)), m);
   }
   try {
@@ -51,6 +104,76 @@ TEST(CameraModel, RejectsBadParameters) {
   EXPECT_THROW(
       CameraModel(752, 480, {1, 1, 0, 0}, DistortionModel::kEquidistant, {0, INFINITY, 0, 0}),
       InputError);
+  const auto message = [](DistortionModel m, Eigen::Vector4d k) {
+    try {
+      CameraModel(752, 480, {350, 350, 376, 240}, m, k);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message(DistortionModel::kDoubleSphere, {-1.0, 0.5, 0, 0}), "double sphere xi = -1 is outside (-1, 1]");
+  EXPECT_EQ(message(DistortionModel::kDoubleSphere, {0.1, 1.5, 0, 0}), "double sphere alpha = 1.5 is outside [0, 1]");
+  EXPECT_EQ(message(DistortionModel::kExtendedUnified, {-0.1, 1.0, 0, 0}), "extended unified alpha = -0.1 is outside [0, 1]");
+  EXPECT_EQ(message(DistortionModel::kExtendedUnified, {0.6, 0.0, 0, 0}), "extended unified beta = 0 is outside (0, inf)");
+  EXPECT_EQ(message(DistortionModel::kDoubleSphere, {0.1, 0.5, 7, 8}), "accepted");
+  // The unused slots are not kept.
+  EXPECT_EQ(CameraModel(752, 480, {350, 350, 376, 240}, DistortionModel::kDoubleSphere, {0.1, 0.5, 7, 8})
+                .distortionCoefficients(),
+            Eigen::Vector4d(0.1, 0.5, 0, 0));
+}
+
+TEST(CameraModel, WideAngleModelsMatchTheirPublishedProjections) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> angle(0.0, 88.0 * M_PI / 180.0), azimuth(-M_PI, M_PI), depth(0.2, 40.0);
+  for (const CameraModel& cam : {doubleSphere(), extendedUnified(), wideDoubleSphere()}) {
+    for (int i = 0; i < 1000; ++i) {
+      const double t = angle(rng), a = azimuth(rng);
+      const Eigen::Vector3d p = depth(rng) * Eigen::Vector3d(std::sin(t) * std::cos(a), std::sin(t) * std::sin(a), std::cos(t));
+      const Eigen::Vector2d expected =
+          cam.distortionModel() == DistortionModel::kDoubleSphere ? doubleSphere3d(cam, p) : extendedUnified3d(cam, p);
+      Eigen::Vector2d px;
+      ASSERT_TRUE(cam.projectAnywhere(p, &px)) << toString(cam.distortionModel()) << " " << t;
+      EXPECT_LT((px - expected).norm(), 1e-9 * (1.0 + expected.norm()));
+    }
+  }
+}
+
+TEST(CameraModel, WideAngleUnprojectionStopsAtNinetyDegrees) {
+  // Pixels of the 195-degree lens whose rays point behind the camera plane have no normalised
+  // coordinates: unprojection refuses them rather than return a ray in front.
+  const CameraModel cam = wideDoubleSphere();
+  int behind = 0, in_front = 0;
+  for (double v = 0; v < cam.height(); v += 8) {
+    for (double u = 0; u < cam.width(); u += 8) {
+      const Eigen::Vector2d px(u, v);
+      if ((px - Eigen::Vector2d(cam.cu(), cam.cv())).norm() < 1.0) continue;
+      const double deg = offAxisDegrees(cam, px);
+      Eigen::Vector3d bearing;
+      const bool ok = cam.unprojectBearing(px, &bearing);
+      if (deg > 90.5) {
+        EXPECT_FALSE(ok) << px.transpose() << " " << deg;
+        ++behind;
+      } else if (deg < 89.5) {
+        ASSERT_TRUE(ok) << px.transpose() << " " << deg;
+        EXPECT_NEAR(std::acos(bearing.z()) * 180.0 / M_PI, deg, 1e-6);
+        ++in_front;
+      }
+    }
+  }
+  EXPECT_GT(behind, 100);
+  EXPECT_GT(in_front, 2000);
+}
+
+TEST(CameraModel, FocalLengthAtCentreIsTheLocalScale) {
+  for (const CameraModel& cam : allModels()) {
+    Eigen::Vector2d a, b;
+    ASSERT_TRUE(cam.projectAnywhere({1e-4, 0.0, 1.0}, &a));
+    ASSERT_TRUE(cam.projectAnywhere({0.0, 1e-4, 1.0}, &b));
+    const double measured = 0.5 * ((a.x() - cam.cu()) + (b.y() - cam.cv())) / 1e-4;
+    EXPECT_NEAR(cam.focalLengthAtCentre(), measured, 1e-3 * measured) << toString(cam.distortionModel());
+  }
+  EXPECT_NEAR(doubleSphere().focalLengthAtCentre(), 0.5 * (349.7 + 348.7) / 0.72, 1e-9);
 }
 
 TEST(CameraModel, PinholeProjectsExactly) {
@@ -67,7 +190,8 @@ TEST(CameraModel, RejectsPointsBehindCameraAndOutsideImage) {
     EXPECT_FALSE(cam.project({0.0, 0.0, -1.0}, &px));
     EXPECT_FALSE(cam.project({0.1, 0.1, 0.0}, &px));
     EXPECT_FALSE(cam.project({NAN, 0.1, 1.0}, &px));
-    // 85 degrees off-axis horizontally: outside each of these images.
+    // 85 degrees off-axis horizontally: outside each of these images (the 195-degree lens reaches
+    // that far only towards its corners).
     EXPECT_FALSE(cam.project({11.43, 0.0, 1.0}, &px));
     EXPECT_TRUE(cam.project({0.0, 0.0, 1.0}, &px));
     EXPECT_NEAR(px.x(), cam.cu(), 1e-12);
@@ -98,6 +222,7 @@ TEST(CameraModel, ProjectUnprojectRoundTrip) {
         }
         if (theta_d > 1.4) continue;
       }
+      if (isWideAngle(cam) && offAxisDegrees(cam, px) > 88.0) continue;
       ASSERT_TRUE(cam.unprojectBearing(px, &bearing))
           << toString(cam.distortionModel()) << " " << px.transpose();
       EXPECT_NEAR(bearing.norm(), 1.0, 1e-12);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "calibration_checks.hpp"
+#include "camera_model_fields.hpp"
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/core/ros_topic_name.hpp"
 #include "mcvio/core/yaml_file.hpp"
@@ -44,27 +45,35 @@ class Section : public detail::YamlSection {
 CameraCalibration readCamera(const Section& cam, const std::string& name) {
   CameraCalibration calibration;
   calibration.name = name;
-  const std::string model = cam.text("camera_model");
-  if (model != "pinhole") {
-    cam.fail(cam.require("camera_model"), "camera_model",
-             "'" + model + "' is not supported (pinhole only; omni, ds and eucm are not)");
+  detail::ProjectionFields projection;
+  std::string problem;
+  if (!detail::projectionNamed(cam.text("camera_model"), &projection, &problem)) {
+    cam.fail(cam.require("camera_model"), "camera_model", problem);
   }
   const std::vector<double> res = cam.numbers("resolution", 2, 2);
   for (double v : res) {
     if (v < 1.0 || v != std::floor(v) || v > 1e6) cam.fail(cam.require("resolution"), "resolution", "must be two positive integers [width, height]");
   }
-  const std::vector<double> in = cam.numbers("intrinsics", 4, 4);
-  const Eigen::Vector4d intrinsics(in[0], in[1], in[2], in[3]);
+  const std::size_t count = projection.intrinsics_count;
+  const std::vector<double> in = cam.numbers("intrinsics", count, count);
+  Eigen::Vector4d intrinsics, coefficients;
+  detail::splitIntrinsics(projection, in, &intrinsics, &coefficients);
   const std::string intrinsics_problem = detail::intrinsicsProblem(intrinsics, static_cast<int>(res[0]), static_cast<int>(res[1]));
   if (!intrinsics_problem.empty()) cam.fail(cam.require("intrinsics"), "intrinsics", intrinsics_problem);
-  const std::string model_name = cam.text("distortion_model");
-  DistortionModel distortion = DistortionModel::kNone;
+  // ds and eucm model the whole lens; Kalibr writes distortion_model none for them.
+  const std::string model_name = cam.has("distortion_model") || projection.wide_angle == DistortionModel::kNone
+                                     ? cam.text("distortion_model")
+                                     : std::string("none");
+  DistortionModel distortion = projection.wide_angle;
   if (model_name == "radtan") distortion = DistortionModel::kRadialTangential;
   else if (model_name == "equidistant") distortion = DistortionModel::kEquidistant;
   else if (model_name != "none")
     cam.fail(cam.require("distortion_model"), "distortion_model", "'" + model_name + "' is not supported (radtan, equidistant or none)");
-  Eigen::Vector4d coefficients = Eigen::Vector4d::Zero();
-  if (distortion != DistortionModel::kNone) {
+  if (projection.wide_angle != DistortionModel::kNone && distortion != projection.wide_angle) {
+    cam.fail(cam.require("distortion_model"), "distortion_model",
+             "must be none for camera_model " + cam.text("camera_model") + ", which models the whole lens");
+  }
+  if (distortion == DistortionModel::kRadialTangential || distortion == DistortionModel::kEquidistant) {
     const std::vector<double> d = cam.numbers("distortion_coeffs", 4, 4);
     coefficients = Eigen::Vector4d(d[0], d[1], d[2], d[3]);
   } else if (cam.has("distortion_coeffs")) {
@@ -74,10 +83,15 @@ CameraCalibration readCamera(const Section& cam, const std::string& name) {
   try {
     calibration.model = CameraModel(static_cast<int>(res[0]), static_cast<int>(res[1]), intrinsics, distortion, coefficients);
   } catch (const InputError& e) {
-    throw InputError(cam.path() + ": " + cam.prefix() + e.what());
+    throw InputError(cam.path() + ": " + cam.prefix() + (projection.wide_angle != DistortionModel::kNone ? "key 'intrinsics': " : "") +
+                     e.what());
   }
-  const std::string distortion_problem = detail::distortionProblem(calibration.model, model_name);
-  if (!distortion_problem.empty()) cam.fail(cam.require("distortion_coeffs"), "distortion_coeffs", distortion_problem);
+  const bool wide = projection.wide_angle != DistortionModel::kNone;
+  const std::string distortion_problem = detail::distortionProblem(calibration.model, wide ? cam.text("camera_model") : model_name);
+  if (!distortion_problem.empty()) {
+    const std::string key = wide ? "intrinsics" : "distortion_coeffs";
+    cam.fail(cam.require(key), key, distortion_problem);
+  }
   return calibration;
 }
 
@@ -207,10 +221,13 @@ void KalibrCalibration::write(const StereoRigCalibration& rig, const std::string
     const char* model = m.distortionModel() == DistortionModel::kEquidistant       ? "equidistant"
                         : m.distortionModel() == DistortionModel::kRadialTangential ? "radtan"
                                                                                      : "none";
+    const bool distorted = std::string(model) != "none";
+    const std::vector<double> intrinsics = detail::listedIntrinsics(m);
     const std::string name = "cam" + std::to_string(i);
-    chain += name + ":\n  camera_model: pinhole\n  intrinsics: " + numberList(m.intrinsics().data(), 4) +
+    chain += name + ":\n  camera_model: " + detail::cameraModelName(m) +
+             "\n  intrinsics: " + numberList(intrinsics.data(), static_cast<int>(intrinsics.size())) +
              "\n  distortion_model: " + model + "\n  distortion_coeffs: " +
-             numberList(m.distortionCoefficients().data(), m.distortionModel() == DistortionModel::kNone ? 0 : 4) +
+             numberList(m.distortionCoefficients().data(), distorted ? 4 : 0) +
              "\n  resolution: [" + std::to_string(m.width()) + ", " + std::to_string(m.height()) + "]\n  rostopic: " +
              (c.topic.empty() ? "/" + name + "/image_raw" : c.topic) + "\n  timeshift_cam_imu: " + detail::formatDouble(shift_s) +
              "\n  cam_overlaps: [" + std::to_string(1 - i) + "]\n  T_cam_imu:\n" + rowsOf(c.T_BC.inverse());

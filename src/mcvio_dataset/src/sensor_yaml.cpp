@@ -9,6 +9,7 @@
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/core/yaml_file.hpp"
 #include "calibration_checks.hpp"
+#include "camera_model_fields.hpp"
 #include "number_format.hpp"
 #include "yaml_section.hpp"
 
@@ -88,13 +89,15 @@ CameraCalibration SensorYaml::readCamera(const std::string& path, const std::str
   calibration.name = name;
   calibration.T_BC = yaml.transform("T_BS");
   calibration.rate_hz = yaml.positive("rate_hz");
+  // Without camera_model the file is EuRoC's pinhole; ds and eucm are written as Kalibr does.
+  detail::ProjectionFields projection;
   if (yaml.has("camera_model")) {
-    const std::string model = yaml.text("camera_model");
-    if (model != "pinhole") {
-      throw InputError(path + ": key 'camera_model': '" + model +
-                       "' is not supported (only pinhole)");
+    std::string problem;
+    if (!detail::projectionNamed(yaml.text("camera_model"), &projection, &problem)) {
+      yaml.fail(yaml.require("camera_model"), "camera_model", problem);
     }
   }
+  const bool wide = projection.wide_angle != DistortionModel::kNone;
   const YAML::Node res_node = yaml.require("resolution");
   const std::vector<double> res = yaml.numbers(res_node, "resolution", 2, 2);
   for (double v : res) {
@@ -103,19 +106,33 @@ CameraCalibration SensorYaml::readCamera(const std::string& path, const std::str
     }
   }
   const YAML::Node in_node = yaml.require("intrinsics");
-  const std::vector<double> in = yaml.numbers(in_node, "intrinsics", 4, 4);
-  const std::string intrinsics_problem = detail::intrinsicsProblem(Eigen::Vector4d(in[0], in[1], in[2], in[3]),
-                                                                  static_cast<int>(res[0]), static_cast<int>(res[1]));
+  const std::vector<double> in =
+      yaml.numbers(in_node, "intrinsics", projection.intrinsics_count, projection.intrinsics_count);
+  Eigen::Vector4d intrinsics, coefficients;
+  detail::splitIntrinsics(projection, in, &intrinsics, &coefficients);
+  const std::string intrinsics_problem =
+      detail::intrinsicsProblem(intrinsics, static_cast<int>(res[0]), static_cast<int>(res[1]));
   if (!intrinsics_problem.empty()) yaml.fail(in_node, "intrinsics", intrinsics_problem);
   DistortionModel model;
-  const std::string model_name = yaml.text("distortion_model");  // its errors name the file already
+  const std::string model_name = yaml.has("distortion_model") || !wide ? yaml.text("distortion_model")
+                                                                       : std::string("none");
   try {
     model = distortionModelFromString(model_name);
   } catch (const InputError& e) {
     throw InputError(path + ": key 'distortion_model': " + e.what());
   }
-  Eigen::Vector4d coefficients = Eigen::Vector4d::Zero();
-  if (model != DistortionModel::kNone || yaml.has("distortion_coefficients")) {
+  if (wide) {
+    if (model != DistortionModel::kNone && model != projection.wide_angle) {
+      yaml.fail(yaml.require("distortion_model"), "distortion_model",
+                "must be none for camera_model " + yaml.text("camera_model") + ", which models the whole lens");
+    }
+    model = projection.wide_angle;
+  } else if (isWideAngleModel(model)) {
+    yaml.fail(yaml.require("distortion_model"), "distortion_model",
+              "'" + model_name + "' is a camera_model: write camera_model: " +
+                  (model == DistortionModel::kDoubleSphere ? "ds" : "eucm") + " with its 6 intrinsics");
+  }
+  if (!wide && (model != DistortionModel::kNone || yaml.has("distortion_coefficients"))) {
     const YAML::Node node = yaml.require("distortion_coefficients");
     // radial-tangential may carry a fifth coefficient k3 in some calibrations; only zero is
     // representable by this model.
@@ -135,17 +152,24 @@ CameraCalibration SensorYaml::readCamera(const std::string& path, const std::str
     } else {
       coefficients = Eigen::Vector4d(d[0], d[1], d[2], d[3]);
     }
+  } else if (wide && yaml.has("distortion_coefficients")) {
+    const YAML::Node node = yaml.require("distortion_coefficients");
+    for (double v : yaml.numbers(node, "distortion_coefficients", 0, 4)) {
+      if (v != 0.0) yaml.fail(node, "distortion_coefficients", "must be empty for camera_model " + yaml.text("camera_model"));
+    }
   }
   try {
     calibration.model =
-        CameraModel(static_cast<int>(res[0]), static_cast<int>(res[1]),
-                    Eigen::Vector4d(in[0], in[1], in[2], in[3]), model, coefficients);
+        CameraModel(static_cast<int>(res[0]), static_cast<int>(res[1]), intrinsics, model, coefficients);
   } catch (const InputError& e) {
-    throw InputError(path + ": " + e.what());
+    throw InputError(path + ": " + (wide ? "key 'intrinsics': " : "") + e.what());
   }
-  const std::string distortion_problem = detail::distortionProblem(calibration.model, model_name);
-  if (!distortion_problem.empty())
-    yaml.fail(yaml.require("distortion_coefficients"), "distortion_coefficients", distortion_problem);
+  const std::string distortion_problem =
+      detail::distortionProblem(calibration.model, wide ? yaml.text("camera_model") : model_name);
+  if (!distortion_problem.empty()) {
+    const std::string key = wide ? "intrinsics" : "distortion_coefficients";
+    yaml.fail(yaml.require(key), key, distortion_problem);
+  }
   return calibration;
 }
 
@@ -172,14 +196,19 @@ void SensorYaml::writeCamera(const std::string& path, const CameraCalibration& c
   out += "\n# Camera specific definitions.\nrate_hz: ";
   appendDouble(out, calibration.rate_hz);
   out += "\nresolution: [" + std::to_string(m.width()) + ", " + std::to_string(m.height()) + "]\n";
-  out += "camera_model: pinhole\nintrinsics: [";
-  for (int i = 0; i < 4; ++i) {
-    appendDouble(out, m.intrinsics()[i]);
-    out += i < 3 ? ", " : "] #fu, fv, cu, cv\n";
+  const bool wide = isWideAngleModel(m.distortionModel());
+  out += std::string("camera_model: ") + detail::cameraModelName(m) + "\nintrinsics: [";
+  const std::vector<double> listed = detail::listedIntrinsics(m);
+  for (std::size_t i = 0; i < listed.size(); ++i) {
+    appendDouble(out, listed[i]);
+    if (i + 1 < listed.size()) out += ", ";
   }
-  out += std::string("distortion_model: ") + toString(m.distortionModel()) +
+  out += m.distortionModel() == DistortionModel::kDoubleSphere      ? "] #xi, alpha, fu, fv, cu, cv\n"
+         : m.distortionModel() == DistortionModel::kExtendedUnified ? "] #alpha, beta, fu, fv, cu, cv\n"
+                                                                    : "] #fu, fv, cu, cv\n";
+  out += std::string("distortion_model: ") + (wide ? "none" : toString(m.distortionModel())) +
          "\ndistortion_coefficients: [";
-  if (m.distortionModel() != DistortionModel::kNone) {
+  if (m.distortionModel() != DistortionModel::kNone && !wide) {
     for (int i = 0; i < 4; ++i) {
       appendDouble(out, m.distortionCoefficients()[i]);
       if (i < 3) out += ", ";

@@ -129,6 +129,41 @@ TEST(KalibrCalibration, WrittenFilesReadBackAsTheRig) {
   EXPECT_THROW(KalibrCalibration::write(rig, dir + "/file"), InputError);
 }
 
+TEST(KalibrCalibration, ReadsAndWritesTheWideAngleModels) {
+  // Kalibr's ds and eucm as kalibr_calibrate_cameras writes them: the two shape parameters
+  // first, distortion_model none.
+  const StereoRigCalibration rig = test::makeRig();
+  std::string chain = camchainOf(rig);
+  const auto camera = [&chain](int i, const std::string& model, const std::string& intrinsics) {
+    const std::string name = "cam" + std::to_string(i) + ":\n";
+    const auto from = chain.find("  camera_model:", chain.find(name));
+    const auto to = chain.find("  resolution:", from);
+    chain.replace(from, to - from,
+                  "  camera_model: " + model + "\n  distortion_coeffs: []\n  distortion_model: none\n  intrinsics: " + intrinsics + "\n");
+  };
+  camera(0, "ds", "[-0.19963086018860057, 0.5924590037637837, 31.7552559595926, 31.61745713358917, 31.5, 23.6]");
+  camera(1, "eucm", "[0.61, 1.12, 46.1, 45.9, 32.2, 24.1]");
+  const std::string dir = test::freshDir("kalibr_wide");
+  test::writeText(dir + "/camchain-imucam.yaml", chain);
+  test::writeText(dir + "/imu.yaml", kImuYaml);
+  StereoRigCalibration got = RigCalibrationReader::read(dir);
+  EXPECT_EQ(got.cam0.model.distortionModel(), DistortionModel::kDoubleSphere);
+  EXPECT_EQ(got.cam0.model.distortionCoefficients(), Eigen::Vector4d(-0.19963086018860057, 0.5924590037637837, 0, 0));
+  EXPECT_EQ(got.cam0.model.intrinsics(), Eigen::Vector4d(31.7552559595926, 31.61745713358917, 31.5, 23.6));
+  EXPECT_EQ(got.cam1.model.distortionModel(), DistortionModel::kExtendedUnified);
+  EXPECT_EQ(got.cam1.model.distortionCoefficients(), Eigen::Vector4d(0.61, 1.12, 0, 0));
+  EXPECT_EQ(got.cam1.model.intrinsics(), Eigen::Vector4d(46.1, 45.9, 32.2, 24.1));
+  // Without the distortion keys, as some tools write ds.
+  for (std::size_t at; (at = chain.find("  distortion_")) != std::string::npos;) chain.erase(at, chain.find('\n', at) - at + 1);
+  test::writeText(dir + "/camchain-imucam.yaml", chain);
+  EXPECT_EQ(RigCalibrationReader::read(dir).cam0.model.distortionCoefficients(), got.cam0.model.distortionCoefficients());
+  // Written and read again; and as EuRoC sensor.yaml files.
+  KalibrCalibration::write(got, dir + "/written");
+  expectRig(RigCalibrationReader::read(dir + "/written"), got);
+  EurocWriter(dir + "/euroc", got).close();
+  expectRig(RigCalibrationReader::read(dir + "/euroc"), got);
+}
+
 TEST(KalibrCalibration, RostopicNamesTheTopicsTheSensorsWereCalibratedOn) {
   const StereoRigCalibration rig = test::makeRig();
   std::string chain = camchainOf(rig);
@@ -177,7 +212,20 @@ TEST(KalibrCalibration, BadFilesAreNamedWithTheCameraAndKey) {
     EXPECT_NE(at, std::string::npos) << from;
     return s.replace(at, from.size(), to);
   };
-  EXPECT_NE(error(replaced("camera_model: pinhole", "camera_model: omni")).find("cam0: key 'camera_model' 'omni' is not supported (pinhole only"), std::string::npos);
+  EXPECT_NE(error(replaced("camera_model: pinhole", "camera_model: omni")).find("cam0: key 'camera_model' 'omni' is not supported (pinhole, ds or eucm; omni, the unified model with a distortion on top, is not"), std::string::npos)
+      << error(replaced("camera_model: pinhole", "camera_model: omni"));
+  EXPECT_NE(error(replaced("camera_model: pinhole", "camera_model: fov")).find("cam0: key 'camera_model' 'fov' is not supported (pinhole, ds or eucm)"), std::string::npos);
+  // A double sphere lists six intrinsics and no distortion.
+  EXPECT_NE(error(replaced("camera_model: pinhole", "camera_model: ds")).find("cam0: key 'intrinsics' must have 6 values, got 4"), std::string::npos);
+  {
+    const std::string ds = replaced("camera_model: pinhole\n  intrinsics: [", "camera_model: ds\n  intrinsics: [-0.2, 0.6, ");
+    EXPECT_NE(error(ds).find("cam0: key 'distortion_model' must be none for camera_model ds, which models the whole lens"), std::string::npos) << error(ds);
+    std::string bad_alpha = good;
+    bad_alpha.replace(bad_alpha.find("camera_model: pinhole\n  intrinsics: ["), 37, "camera_model: ds\n  intrinsics: [-0.2, 1.6, ");
+    const auto at = bad_alpha.find("distortion_model: radtan");
+    bad_alpha.replace(at, bad_alpha.find('\n', bad_alpha.find("distortion_coeffs", at)) - at, "distortion_model: none\n  distortion_coeffs: []");
+    EXPECT_NE(error(bad_alpha).find("camchain-imucam.yaml: cam0: key 'intrinsics': double sphere alpha = 1.6 is outside [0, 1]"), std::string::npos) << error(bad_alpha);
+  }
   EXPECT_NE(error(replaced("distortion_model: radtan", "distortion_model: fov")).find("cam0: key 'distortion_model' 'fov' is not supported"), std::string::npos);
   EXPECT_NE(error(camchainOf(rig, false, false)).find("cam1: missing key 'T_cam_imu' (or 'T_cn_cnm1'"), std::string::npos);
   {

@@ -64,6 +64,47 @@ TEST(SensorYaml, PinholeWithoutDistortionRoundTrips) {
   EXPECT_EQ(back.T_BC.matrix(), cam.T_BC.matrix());
 }
 
+TEST(SensorYaml, WideAngleModelsAreWrittenAsKalibrNamesThem) {
+  const std::string path = test::freshDir("yaml_ds") + "/sensor.yaml";
+  CameraCalibration cam;
+  cam.name = "cam0";
+  cam.model = CameraModel(752, 480, {349.7, 348.7, 365.8, 249.3}, DistortionModel::kDoubleSphere, {-0.28, 0.57, 0, 0});
+  SensorYaml::writeCamera(path, cam);
+  const std::string text = test::readText(path);
+  EXPECT_NE(text.find("camera_model: ds\nintrinsics: [-0.28, 0.57, 349.7, 348.7, 365.8, 249.3] #xi, alpha, fu, fv, cu, cv\n"
+                      "distortion_model: none\ndistortion_coefficients: []"),
+            std::string::npos)
+      << text;
+  CameraCalibration back = SensorYaml::readCamera(path, "cam0");
+  EXPECT_EQ(back.model.distortionModel(), DistortionModel::kDoubleSphere);
+  EXPECT_EQ(back.model.intrinsics(), cam.model.intrinsics());
+  EXPECT_EQ(back.model.distortionCoefficients(), cam.model.distortionCoefficients());
+  cam.model = CameraModel(752, 480, {460.1, 459.3, 365.8, 249.3}, DistortionModel::kExtendedUnified, {0.61, 1.12, 0, 0});
+  SensorYaml::writeCamera(path, cam);
+  back = SensorYaml::readCamera(path, "cam0");
+  EXPECT_EQ(back.model.distortionModel(), DistortionModel::kExtendedUnified);
+  EXPECT_EQ(back.model.distortionCoefficients(), cam.model.distortionCoefficients());
+
+  const auto error = [&path](const std::string& from, const std::string& to) {
+    std::string t = kCameraYaml;
+    t.replace(t.find(from), from.size(), to);
+    test::writeText(path, t);
+    try {
+      SensorYaml::readCamera(path, "cam0");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error("camera_model: pinhole", "camera_model: ds").find("key 'intrinsics' must have 6 values, got 4"), std::string::npos);
+  EXPECT_NE(error("camera_model: pinhole\nintrinsics: [", "camera_model: ds\nintrinsics: [0.1, 0.6, ")
+                .find("key 'distortion_model' must be none for camera_model ds"),
+            std::string::npos);
+  EXPECT_NE(error("distortion_model: radtan", "distortion_model: ds").find("key 'distortion_model' 'ds' is a camera_model: write camera_model: ds with its 6 intrinsics"),
+            std::string::npos)
+      << error("distortion_model: radtan", "distortion_model: ds");
+}
+
 // Values that parse but cannot describe a real camera would run and lose every feature.
 TEST(SensorYaml, RejectsImplausibleIntrinsicsAndTheWrongSensorType) {
   const std::string path = test::freshDir("yaml_implausible") + "/sensor.yaml";

@@ -160,7 +160,7 @@ void SlidingWindowEstimator::clearLandmarks() {
 
 SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options, const StereoRigCalibration& rig)
     : SlidingWindowEstimator(options, rig.cam0.T_BC, rig.cam1.T_BC,
-                             0.5 * (rig.cam0.model.fu() + rig.cam0.model.fv()), rig.imu.noise) {}
+                             rig.cam0.model.focalLengthAtCentre(), rig.imu.noise) {}
 
 SlidingWindowEstimator::~SlidingWindowEstimator() {
   // The problem refers to the cost functions; drop it first.

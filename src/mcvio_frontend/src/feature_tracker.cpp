@@ -105,7 +105,7 @@ void FeatureTracker::setCalibration(const StereoRigCalibration& calibration) {
   calibration_ = calibration;
   const CameraModel& cam0 = calibration.cam0.model;
   checker_ = std::make_unique<MotionConsistencyChecker>(
-      options_.ransac_threshold_px, 0.5 * (cam0.fu() + cam0.fv()), options_.ransac_iterations,
+      options_.ransac_threshold_px, cam0.focalLengthAtCentre(), options_.ransac_iterations,
       options_.min_tracks_for_check, options_.ransac_seed, options_.min_depth_m);
   reset();
 }
@@ -603,7 +603,7 @@ void FeatureTracker::matchStereo(const std::vector<cv::Mat>& left_pyr,
     if (confirmed[i]) st_bwd[i] = 1;
   }
   const double fb2 = options_.stereo_fb_threshold_px * options_.stereo_fb_threshold_px;
-  const double f1 = 0.5 * (cam1.fu() + cam1.fv());
+  const double f1 = cam1.focalLengthAtCentre();
   for (std::size_t i = 0; i < n; ++i) {
     Track& t = tracks_[i];
     t.stereo = false;

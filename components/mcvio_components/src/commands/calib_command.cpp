@@ -28,12 +28,22 @@ std::string describe(const StereoRigCalibration& rig) {
     const CameraModel& m = c.model;
     const Eigen::Vector4d& d = m.distortionCoefficients();
     os.precision(3);
-    os << "cam" << i << ": " << m.width() << "x" << m.height() << " pinhole, fu " << m.fu() << " fv " << m.fv()
-       << " cu " << m.cu() << " cv " << m.cv() << ", " << toString(m.distortionModel());
-    if (m.distortionModel() != DistortionModel::kNone) {
-      char b[128];
-      std::snprintf(b, sizeof(b), " [%.6g, %.6g, %.6g, %.6g]", d[0], d[1], d[2], d[3]);
+    const bool wide = isWideAngleModel(m.distortionModel());
+    os << "cam" << i << ": " << m.width() << "x" << m.height() << " " << (wide ? toString(m.distortionModel()) : "pinhole")
+       << ", fu " << m.fu() << " fv " << m.fv() << " cu " << m.cu() << " cv " << m.cv();
+    char b[128];
+    if (m.distortionModel() == DistortionModel::kDoubleSphere) {
+      std::snprintf(b, sizeof(b), ", xi %.6g alpha %.6g", d[0], d[1]);
       os << b;
+    } else if (m.distortionModel() == DistortionModel::kExtendedUnified) {
+      std::snprintf(b, sizeof(b), ", alpha %.6g beta %.6g", d[0], d[1]);
+      os << b;
+    } else {
+      os << ", " << toString(m.distortionModel());
+      if (m.distortionModel() != DistortionModel::kNone) {
+        std::snprintf(b, sizeof(b), " [%.6g, %.6g, %.6g, %.6g]", d[0], d[1], d[2], d[3]);
+        os << b;
+      }
     }
     os << "\n      in the IMU frame: position " << vec3(c.T_BC.translation(), 4) << " m, optical axis "
        << vec3(c.T_BC.linear().col(2), 3) << "\n";

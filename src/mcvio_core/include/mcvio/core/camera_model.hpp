@@ -4,29 +4,43 @@
 
 namespace mcvio {
 
-/// Lens distortion applied to normalised image coordinates (x/z, y/z), named as in EuRoC/Kalibr
-/// sensor.yaml files.
+/// The lens: how normalised image coordinates (x/z, y/z) map to the distorted coordinates that
+/// the focal lengths and principal point turn into pixels. The first three are a pinhole with
+/// lens distortion, named as in EuRoC/Kalibr sensor.yaml files; the last two are the wide-angle
+/// projection models of Usenko et al. 2018 (Basalt, Kalibr's `ds` and `eucm`), which replace the
+/// pinhole. Written on normalised coordinates, every model covers the rays in front of the
+/// camera (under 90 degrees off-axis), as the estimator does.
 enum class DistortionModel {
   kNone,              ///< ideal pinhole, no coefficients
   kRadialTangential,  ///< "radial-tangential" (plumb bob): k1 k2 p1 p2
   kEquidistant,       ///< "equidistant" (Kannala-Brandt fisheye): k1 k2 k3 k4
+  kDoubleSphere,      ///< "double-sphere" (Kalibr's ds): xi in (-1, 1], alpha in [0, 1]
+  kExtendedUnified,   ///< "extended-unified" (Kalibr's eucm): alpha in [0, 1], beta > 0
 };
 
-/// "none", "radial-tangential" or "equidistant".
+/// "none", "radial-tangential", "equidistant", "double-sphere" or "extended-unified".
 const char* toString(DistortionModel model);
 /// Parses the sensor.yaml spelling (also accepts "radtan", "plumb_bob", "fisheye", "pinhole"
-/// for none); throws mcvio::InputError naming the value otherwise.
+/// for none, "ds" and "eucm"); throws mcvio::InputError naming the value otherwise.
 DistortionModel distortionModelFromString(const std::string& name);
-/// Number of coefficients the model takes: 0 or 4.
+/// Number of coefficients the model takes: 0 (none), 4 (radial-tangential, equidistant) or 2
+/// (double sphere: xi alpha; extended unified: alpha beta).
 int distortionCoefficientCount(DistortionModel model);
+/// True for the double sphere and extended unified models, which replace the pinhole rather
+/// than distort it (calibration files name them as the camera_model, not the distortion_model).
+bool isWideAngleModel(DistortionModel model);
 
-/// Pinhole camera with lens distortion.
+/// Camera with one of the lens models above.
 ///
 /// Pixel convention (OpenCV/EuRoC): pixel (0, 0) is the centre of the top-left pixel, u to the
 /// right, v down; the image covers u in [-0.5, width - 0.5) and v in [-0.5, height - 0.5).
 /// Camera frame: z along the optical axis, x right, y down.
 ///
-/// Pipeline: p_C -> normalised (x/z, y/z) -> distort -> (fu * xd + cu, fv * yd + cv).
+/// Pipeline: p_C -> normalised (x/z, y/z) -> distort -> (fu * xd + cu, fv * yd + cv). For the
+/// double sphere, distort((x, y)) = (x, y) / (alpha d2 + (1 - alpha) (xi d1 + 1)) with
+/// d1 = |(x, y, 1)|, d2 = |(x, y, xi d1 + 1)|; for the extended unified model
+/// (x, y) / (alpha sqrt(beta (x^2 + y^2) + 1) + 1 - alpha): the published projections of p_C,
+/// which are the same for every point along a ray.
 /// All methods are const and thread-safe.
 class CameraModel {
  public:
@@ -38,8 +52,10 @@ class CameraModel {
   CameraModel() = default;
 
   /// intrinsics = (fu, fv, cu, cv) [px]; coefficients: 4 values for radial-tangential
-  /// (k1 k2 p1 p2) and equidistant (k1 k2 k3 k4), ignored for none.
-  /// Throws mcvio::InputError on non-positive size or focal length, or non-finite values.
+  /// (k1 k2 p1 p2) and equidistant (k1 k2 k3 k4), (xi, alpha, 0, 0) for the double sphere,
+  /// (alpha, beta, 0, 0) for the extended unified model, ignored for none.
+  /// Throws mcvio::InputError on non-positive size or focal length, non-finite values, or
+  /// parameters outside a wide-angle model's range (naming the parameter).
   CameraModel(int width, int height, const Vec4& intrinsics, DistortionModel model,
               const Vec4& coefficients = Vec4::Zero());
 
@@ -83,13 +99,22 @@ class CameraModel {
   /// (fu, fv, cu, cv)
   const Vec4& intrinsics() const { return intrinsics_; }
   DistortionModel distortionModel() const { return model_; }
-  /// Four coefficients (zeros for DistortionModel::kNone).
+  /// Four coefficients (zeros for DistortionModel::kNone; the last two zero for the
+  /// wide-angle models).
   const Vec4& distortionCoefficients() const { return coefficients_; }
   /// 3x3 pinhole matrix K.
   Eigen::Matrix3d cameraMatrix() const;
+  /// Pixels per unit of normalised coordinate at the principal point, what a pixel-noise figure
+  /// is divided by to weigh normalised residuals: (fu + fv) / 2, and (fu + fv) / (2 (1 + xi))
+  /// for the double sphere, whose rays at the centre spread by 1 / (1 + xi).
+  double focalLengthAtCentre() const;
 
  private:
   bool inValidRange(const Vec2& undistorted) const;
+  // The wide-angle models scale a normalised point by 1 / den(r), r its radius; den and
+  // d den / d r.
+  void wideAngleDenominator(double r, double* den, double* dden_dr) const;
+  bool undistortWideAngle(const Vec2& distorted, Vec2* undistorted) const;
 
   int width_ = 1;
   int height_ = 1;
