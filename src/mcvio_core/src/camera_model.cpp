@@ -341,6 +341,12 @@ double CameraModel::focalLengthAtCentre() const {
   return model_ == DistortionModel::kDoubleSphere ? f / (1.0 + coefficients_[0]) : f;
 }
 
+double CameraModel::pixelScaleAt(const Vec2& normalised) const {
+  Eigen::Matrix2d J;
+  distort(normalised, &J);
+  return std::sqrt(std::abs(intrinsics_[0] * intrinsics_[1] * J.determinant()));
+}
+
 Eigen::Matrix3d CameraModel::cameraMatrix() const {
   Eigen::Matrix3d K;
   K << intrinsics_[0], 0.0, intrinsics_[2], 0.0, intrinsics_[1], intrinsics_[3], 0.0, 0.0, 1.0;

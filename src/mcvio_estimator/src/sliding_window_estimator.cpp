@@ -160,7 +160,15 @@ void SlidingWindowEstimator::clearLandmarks() {
 
 SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options, const StereoRigCalibration& rig)
     : SlidingWindowEstimator(options, rig.cam0.T_BC, rig.cam1.T_BC,
-                             rig.cam0.model.focalLengthAtCentre(), rig.imu.noise) {}
+                             rig.cam0.model.focalLengthAtCentre(), rig.imu.noise) {
+  cameras_ = std::array<CameraModel, 2>{rig.cam0.model, rig.cam1.model};
+}
+
+double SlidingWindowEstimator::pixelScale(int camera, const Eigen::Vector2d& normalised) const {
+  if (!options_.local_pixel_scale || !cameras_) return focal_px_;
+  const double s = (*cameras_)[static_cast<std::size_t>(camera)].pixelScaleAt(normalised);
+  return s > 0.0 && std::isfinite(s) ? s : focal_px_;
+}
 
 SlidingWindowEstimator::~SlidingWindowEstimator() {
   // The problem refers to the cost functions; drop it first.
@@ -652,7 +660,6 @@ void SlidingWindowEstimator::solve(EstimatorOutput* out) {
     if (f->zero_velocity && f->has_speed_bias)
       add(own(new ZeroVelocityFactor(options_.zero_velocity_sigma)), {f->sb.data()}, ResidualKind::kZeroVelocity);
 
-  const double scale = focal_px_ / options_.observation_sigma_px;
   ceres::ParameterBlockOrdering* ordering = new ceres::ParameterBlockOrdering;
   int n_landmarks = 0, n_visual = 0;
   std::vector<ResidualRecord> pending;
@@ -668,6 +675,7 @@ void SlidingWindowEstimator::solve(EstimatorOutput* out) {
       c.frame_id = frame_id;
       c.camera = camera;
       c.in_anchor = in_anchor;
+      const double scale = pixelScale(camera, measured) / options_.observation_sigma_px;
       if (in_anchor)
         c.cost = std::make_unique<AnchorObservationFactor>(measured, camera == 0 ? Eigen::Isometry3d::Identity() : T_C1C0_,
                                                            scale);

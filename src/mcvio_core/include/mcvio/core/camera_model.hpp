@@ -108,6 +108,10 @@ class CameraModel {
   /// is divided by to weigh normalised residuals: (fu + fv) / 2, and (fu + fv) / (2 (1 + xi))
   /// for the double sphere, whose rays at the centre spread by 1 / (1 + xi).
   double focalLengthAtCentre() const;
+  /// Pixels per unit of normalised coordinate at the undistorted point `normalised`: the square
+  /// root of |det d pixel / d normalised|, the geometric mean of the lens's radial and tangential
+  /// stretch there (focalLengthAtCentre() at the centre; less towards a wide lens's edge).
+  double pixelScaleAt(const Vec2& normalised) const;
 
  private:
   bool inValidRange(const Vec2& undistorted) const;

@@ -24,6 +24,11 @@ struct EstimatorOptions {
 
   // Visual measurements.
   double observation_sigma_px = 1.0;         ///< pixel noise of a feature (whitening)
+  /// Whiten each visual residual by the lens's own pixels per normalised unit where the feature
+  /// was seen (true; the calibration's camera model, when the estimator has it) rather than the
+  /// focal length at the centre (false). A wide-angle lens's edge pixel covers much more of the
+  /// normalised plane than its centre pixel: one scale for all trusts its edges too much.
+  bool local_pixel_scale = false;
   RobustLoss robust_loss = RobustLoss::kHuber;
   double robust_loss_scale_px = 3.0;         ///< where the robust loss starts to bend [px] (about 3 sigma)
   double outlier_threshold_px = 4.0;         ///< observations with larger error after a solve are dropped
