@@ -45,6 +45,14 @@ TEST(RosConversions, CameraInfoImuAndOdometry) {
   EXPECT_DOUBLE_EQ(ci.k()[2], 367.215);
   EXPECT_DOUBLE_EQ(ci.p()[5], 457.296);
   EXPECT_EQ(ci.header().frame_id(), "cam1");
+  // The wide-angle models have no sensor_msgs name: theirs, with the two parameters.
+  cal.model = CameraModel(752, 480, {349.7, 348.7, 365.8, 249.3}, DistortionModel::kDoubleSphere, {-0.28, 0.57, 0, 0});
+  const auto ds = toCameraInfoMsg(cal, 7);
+  EXPECT_EQ(ds.distortion_model(), "double_sphere");
+  EXPECT_EQ(ds.d(), (std::vector<double>{-0.28, 0.57}));
+  EXPECT_DOUBLE_EQ(ds.k()[0], 349.7);
+  cal.model = CameraModel(752, 480, {460.1, 459.3, 365.8, 249.3}, DistortionModel::kExtendedUnified, {0.61, 1.12, 0, 0});
+  EXPECT_EQ(toCameraInfoMsg(cal, 7).distortion_model(), "extended_unified");
 
   ImuSample s;
   s.t = 5;

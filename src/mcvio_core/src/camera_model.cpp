@@ -72,8 +72,27 @@ int distortionCoefficientCount(DistortionModel model) {
   }
 }
 
-bool isWideAngleModel(DistortionModel model) {
+bool isProjectionModel(DistortionModel model) {
   return model == DistortionModel::kDoubleSphere || model == DistortionModel::kExtendedUnified;
+}
+
+PixelScale pixelScaleFromString(const std::string& name) {
+  if (name == "centre") return PixelScale::kCentre;
+  if (name == "local") return PixelScale::kLocal;
+  if (name == "wide_angle") return PixelScale::kWideAngle;
+  throw InputError("unknown pixel scale '" + name + "' (expected centre, local or wide_angle)");
+}
+
+bool usesLocalPixelScale(PixelScale scale, DistortionModel model) {
+  switch (scale) {
+    case PixelScale::kCentre:
+      return false;
+    case PixelScale::kLocal:
+      return true;
+    case PixelScale::kWideAngle:
+      return model == DistortionModel::kEquidistant || isProjectionModel(model);
+  }
+  return false;
 }
 
 CameraModel::CameraModel(int width, int height, const Vec4& intrinsics, DistortionModel model,
@@ -277,7 +296,7 @@ bool CameraModel::inValidRange(const Vec2& p) const {
   // Beyond the fold of the distortion polynomial two directions map to one pixel; a positive
   // Jacobian determinant keeps the mapping one-to-one.
   if (model_ == DistortionModel::kNone) return true;
-  if (isWideAngleModel(model_)) {
+  if (isProjectionModel(model_)) {
     double den, dden;
     wideAngleDenominator(p.norm(), &den, &dden);
     if (!(den > 0.0)) return false;

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include <random>
 
 #include "mcvio/core/input_error.hpp"
@@ -59,7 +61,7 @@ std::vector<CameraModel> allModels() {
   return {eurocCam0(), fisheye(), pinhole(), doubleSphere(), extendedUnified(), wideDoubleSphere()};
 }
 
-bool isWideAngle(const CameraModel& c) { return isWideAngleModel(c.distortionModel()); }
+bool isWideAngle(const CameraModel& c) { return isProjectionModel(c.distortionModel()); }
 
 // Angle off the optical axis of the ray through a pixel, by bisection on the 3D projection.
 double offAxisDegrees(const CameraModel& c, const Eigen::Vector2d& px) {
@@ -163,6 +165,28 @@ TEST(CameraModel, WideAngleUnprojectionStopsAtNinetyDegrees) {
   }
   EXPECT_GT(behind, 100);
   EXPECT_GT(in_front, 2000);
+}
+
+TEST(CameraModel, PixelScaleAtIsTheAreaAPixelCovers) {
+  // A small square of normalised coordinates around a point, projected: its area in pixels is
+  // pixelScaleAt^2 times its own.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> xy(-1.2, 1.2);
+  for (const CameraModel& cam : allModels()) {
+    for (int i = 0; i < 100; ++i) {
+      const Eigen::Vector2d n(xy(rng), xy(rng));
+      const double h = 1e-5;
+      Eigen::Vector2d o, a, b;
+      if (!cam.projectAnywhere(n.homogeneous(), &o)) continue;
+      ASSERT_TRUE(cam.projectAnywhere((n + Eigen::Vector2d(h, 0)).homogeneous(), &a));
+      ASSERT_TRUE(cam.projectAnywhere((n + Eigen::Vector2d(0, h)).homogeneous(), &b));
+      const double area = std::abs((a - o).x() * (b - o).y() - (a - o).y() * (b - o).x()) / (h * h);
+      EXPECT_NEAR(cam.pixelScaleAt(n), std::sqrt(area), 1e-3 * std::sqrt(area)) << toString(cam.distortionModel());
+    }
+  }
+  // A wide lens's edge: a 60-degree ray's pixel covers far more of the normalised plane.
+  const CameraModel ds = doubleSphere();
+  EXPECT_LT(ds.pixelScaleAt({std::tan(60.0 * M_PI / 180.0), 0.0}), 0.45 * ds.pixelScaleAt({0.0, 0.0}));  // 0.38
 }
 
 TEST(CameraModel, FocalLengthAtCentreIsTheLocalScale) {

@@ -40,7 +40,7 @@ const char* cameraModelName(const CameraModel& model) {
 
 std::vector<double> listedIntrinsics(const CameraModel& model) {
   std::vector<double> listed;
-  if (isWideAngleModel(model.distortionModel())) {
+  if (isProjectionModel(model.distortionModel())) {
     listed = {model.distortionCoefficients()[0], model.distortionCoefficients()[1]};
   }
   for (int i = 0; i < 4; ++i) listed.push_back(model.intrinsics()[i]);

@@ -127,7 +127,7 @@ CameraCalibration SensorYaml::readCamera(const std::string& path, const std::str
                 "must be none for camera_model " + yaml.text("camera_model") + ", which models the whole lens");
     }
     model = projection.wide_angle;
-  } else if (isWideAngleModel(model)) {
+  } else if (isProjectionModel(model)) {
     yaml.fail(yaml.require("distortion_model"), "distortion_model",
               "'" + model_name + "' is a camera_model: write camera_model: " +
                   (model == DistortionModel::kDoubleSphere ? "ds" : "eucm") + " with its 6 intrinsics");
@@ -196,7 +196,7 @@ void SensorYaml::writeCamera(const std::string& path, const CameraCalibration& c
   out += "\n# Camera specific definitions.\nrate_hz: ";
   appendDouble(out, calibration.rate_hz);
   out += "\nresolution: [" + std::to_string(m.width()) + ", " + std::to_string(m.height()) + "]\n";
-  const bool wide = isWideAngleModel(m.distortionModel());
+  const bool wide = isProjectionModel(m.distortionModel());
   out += std::string("camera_model: ") + detail::cameraModelName(m) + "\nintrinsics: [";
   const std::vector<double> listed = detail::listedIntrinsics(m);
   for (std::size_t i = 0; i < listed.size(); ++i) {

@@ -88,7 +88,15 @@ EstimatorOptions EstimatorOptions::fromYaml(const YAML::Node& node, const std::s
     f.get("keyframe_parallax_px", &o.keyframe_parallax_px);
     f.get("keyframe_tracked_fraction", &o.keyframe_tracked_fraction);
     f.get("observation_sigma_px", &o.observation_sigma_px);
-    f.get("local_pixel_scale", &o.local_pixel_scale);
+    if (f.has("pixel_scale")) {
+      std::string scale;
+      f.get("pixel_scale", &scale);
+      try {
+        o.pixel_scale = pixelScaleFromString(scale);
+      } catch (const InputError& e) {
+        throw InputError(std::string("estimator option 'pixel_scale': ") + e.what());
+      }
+    }
     if (f.has("robust_loss")) {
       std::string loss;
       f.get("robust_loss", &loss);

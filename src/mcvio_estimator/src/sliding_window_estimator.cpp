@@ -165,8 +165,10 @@ SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options, 
 }
 
 double SlidingWindowEstimator::pixelScale(int camera, const Eigen::Vector2d& normalised) const {
-  if (!options_.local_pixel_scale || !cameras_) return focal_px_;
-  const double s = (*cameras_)[static_cast<std::size_t>(camera)].pixelScaleAt(normalised);
+  if (!cameras_) return focal_px_;
+  const CameraModel& lens = (*cameras_)[static_cast<std::size_t>(camera)];
+  if (!usesLocalPixelScale(options_.pixel_scale, lens.distortionModel())) return focal_px_;
+  const double s = lens.pixelScaleAt(normalised);
   return s > 0.0 && std::isfinite(s) ? s : focal_px_;
 }
 

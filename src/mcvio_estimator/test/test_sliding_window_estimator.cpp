@@ -302,9 +302,10 @@ TEST(SlidingWindowEstimatorInput, CorruptImuIsDetectedAndReset) {
 }
 
 TEST(EstimatorOptions, LoadsFromYamlAndNamesBadKeys) {
-  const YAML::Node ok = YAML::Load("imu_window_size: 7\nrobust_loss: cauchy\nobservation_sigma_px: 0.7\n");
+  const YAML::Node ok = YAML::Load("imu_window_size: 7\nrobust_loss: cauchy\nobservation_sigma_px: 0.7\npixel_scale: local\n");
   const auto o = EstimatorOptions::fromYaml(ok, "test.yaml");
   EXPECT_EQ(o.imu_window_size, 7);
+  EXPECT_EQ(o.pixel_scale, PixelScale::kLocal);
   EXPECT_EQ(o.robust_loss, RobustLoss::kCauchy);
   EXPECT_DOUBLE_EQ(o.observation_sigma_px, 0.7);
   EXPECT_EQ(o.keyframe_window_size, EstimatorOptions{}.keyframe_window_size);
@@ -322,6 +323,7 @@ TEST(EstimatorOptions, LoadsFromYamlAndNamesBadKeys) {
   expectError("observation_sigma_px: -1\n", "observation_sigma_px");
   expectError("max_iterations: many\n", "max_iterations");
   expectError("robust_loss: tukey\n", "robust_loss");
+  expectError("pixel_scale: center\n", "pixel_scale");
   expectError("imu_windw_size: 4\n", "imu_windw_size");
   expectError("conflict:\n  hold_moving_min_fraction: 0\n", "hold_moving_min_fraction");
   expectError("conflict:\n  frontend_agreement_ends_hold: maybe\n", "frontend_agreement_ends_hold");
@@ -351,12 +353,13 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_DOUBLE_EQ(o.conflict_function_tolerance, d.conflict_function_tolerance);
   EXPECT_DOUBLE_EQ(o.outlier_threshold_px, d.outlier_threshold_px);
   EXPECT_EQ(o.outlier_drops_landmark, d.outlier_drops_landmark);
+  EXPECT_EQ(o.pixel_scale, d.pixel_scale);
   EXPECT_DOUBLE_EQ(o.init_roll_pitch_sigma_moving, d.init_roll_pitch_sigma_moving);
   EXPECT_DOUBLE_EQ(o.max_time_without_vision_s, d.max_time_without_vision_s);
   EXPECT_EQ(o.right_camera_in_all_frames, d.right_camera_in_all_frames);
   EXPECT_EQ(o.marginalize_tracked_landmark_history, d.marginalize_tracked_landmark_history);
   const YAML::Node root = YAML::LoadFile(std::string(MCVIO_ESTIMATOR_CONFIG_DIR) + "/estimator.yaml");
-  EXPECT_EQ(root.size(), 51u) << "every option appears once";
+  EXPECT_EQ(root.size(), 52u) << "every option appears once";
   // The conflict section lists every conflict option with its default.
   const auto& c = o.conflict;
   const conflict::ConflictOptions dc;

@@ -377,6 +377,7 @@ void FeatureTracker::trackTemporal(const std::vector<cv::Mat>& cur_pyr,
     MotionConsistencyChecker::Correspondence c;
     c.prev_normalized = t.left_norm;
     c.cur_normalized = norm;
+    if (usesLocalPixelScale(options_.pixel_scale, cam0.distortionModel())) c.pixel_scale = cam0.pixelScaleAt(norm);
     c.has_point = t.has_point;
     c.point_prev = t.point;
     corr.push_back(c);
@@ -604,6 +605,7 @@ void FeatureTracker::matchStereo(const std::vector<cv::Mat>& left_pyr,
   }
   const double fb2 = options_.stereo_fb_threshold_px * options_.stereo_fb_threshold_px;
   const double f1 = cam1.focalLengthAtCentre();
+  const bool local_scale = usesLocalPixelScale(options_.pixel_scale, cam1.distortionModel());
   for (std::size_t i = 0; i < n; ++i) {
     Track& t = tracks_[i];
     t.stereo = false;
@@ -617,7 +619,7 @@ void FeatureTracker::matchStereo(const std::vector<cv::Mat>& left_pyr,
     const Eigen::Vector3d x0 = t.left_norm.homogeneous();
     const Eigen::Vector3d x1 = rn.homogeneous();
     const Eigen::Vector3d line = E * x0;
-    const double epi_px = std::abs(x1.dot(line)) / line.head<2>().norm() * f1;
+    const double epi_px = std::abs(x1.dot(line)) / line.head<2>().norm() * (local_scale ? cam1.pixelScaleAt(rn) : f1);
     if (!(epi_px <= options_.stereo_epipolar_threshold_px)) continue;
     // Depths along both rays: d1 x1 = d0 R x0 + t, least squares.
     Eigen::Matrix<double, 3, 2> a;

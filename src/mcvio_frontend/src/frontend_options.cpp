@@ -96,6 +96,15 @@ FrontendOptions FrontendOptions::fromYaml(const YAML::Node& node, const std::str
     f.get("min_depth_m", &o.min_depth_m);
     f.get("max_depth_m", &o.max_depth_m);
     f.get("ransac_threshold_px", &o.ransac_threshold_px);
+    if (f.has("pixel_scale")) {
+      std::string scale;
+      f.get("pixel_scale", &scale);
+      try {
+        o.pixel_scale = pixelScaleFromString(scale);
+      } catch (const InputError& e) {
+        throw InputError(std::string("frontend option 'pixel_scale': ") + e.what());
+      }
+    }
     f.get("ransac_iterations", &o.ransac_iterations);
     f.get("min_tracks_for_check", &o.min_tracks_for_check);
     f.get("ransac_seed", &o.ransac_seed);

@@ -162,6 +162,7 @@ void MotionConsistencyChecker::labelAll(const std::vector<Correspondence>& track
     } else {
       e = epipolarError(r->R_cur_prev, r->t_cur_prev, tr.prev_normalized, tr.cur_normalized);
     }
+    e = centreUnits(tr, e);
     r->residual_px[i] = e * focal_px_;
     const bool ok = e < threshold_;
     r->labels[i] = ok ? TrackLabel::kConsistent : TrackLabel::kInconsistent;
@@ -182,7 +183,7 @@ MotionConsistencyChecker::Result MotionConsistencyChecker::checkMetric(
     *count = 0;
     for (int i : with_point) {
       const auto& tr = tracks[static_cast<std::size_t>(i)];
-      const double e = reprojectionError(R, t, tr.point_prev, tr.cur_normalized);
+      const double e = centreUnits(tr, reprojectionError(R, t, tr.point_prev, tr.cur_normalized));
       if (e < threshold_) {
         c += e * e;
         ++*count;
@@ -238,7 +239,7 @@ MotionConsistencyChecker::Result MotionConsistencyChecker::checkMetric(
     std::vector<int> inliers;
     for (int i : with_point) {
       const auto& tr = tracks[static_cast<std::size_t>(i)];
-      if (reprojectionError(r.R_cur_prev, r.t_cur_prev, tr.point_prev, tr.cur_normalized) <
+      if (centreUnits(tr, reprojectionError(r.R_cur_prev, r.t_cur_prev, tr.point_prev, tr.cur_normalized)) <
           threshold_) {
         inliers.push_back(i);
       }
@@ -268,7 +269,7 @@ MotionConsistencyChecker::Result MotionConsistencyChecker::checkEpipolar(
     auto score = [&](const Eigen::Vector3d& t) {
       int count = 0;
       for (const auto& tr : tracks) {
-        if (epipolarError(*prior, t, tr.prev_normalized, tr.cur_normalized) < threshold_) ++count;
+        if (centreUnits(tr, epipolarError(*prior, t, tr.prev_normalized, tr.cur_normalized)) < threshold_) ++count;
       }
       return count;
     };

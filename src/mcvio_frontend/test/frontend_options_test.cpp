@@ -44,6 +44,10 @@ TEST(FrontendOptions, ErrorsNameTheKey) {
   EXPECT_NE(errorOf("exposure_normalization: auto").find("exposure_normalization"),
             std::string::npos);
   EXPECT_EQ(errorOf("max_features: 100"), "");
+  EXPECT_NE(errorOf("pixel_scale: edge").find("frontend option 'pixel_scale': unknown pixel scale 'edge' (expected centre, local or wide_angle)"),
+            std::string::npos)
+      << errorOf("pixel_scale: edge");
+  EXPECT_EQ(FrontendOptions::fromYaml(YAML::Load("pixel_scale: centre")).pixel_scale, PixelScale::kCentre);
 }
 
 TEST(FrontendOptions, FileWithFrontendSection) {
@@ -67,6 +71,7 @@ TEST(FrontendOptions, ShippedConfigLoads) {
   EXPECT_EQ(o.exposure_normalization, d.exposure_normalization);
   EXPECT_EQ(o.normalization_block_px, d.normalization_block_px);
   EXPECT_DOUBLE_EQ(o.ransac_threshold_px, d.ransac_threshold_px);
+  EXPECT_EQ(o.pixel_scale, d.pixel_scale);
   EXPECT_DOUBLE_EQ(o.stereo_prediction_tolerance_px, d.stereo_prediction_tolerance_px);
   EXPECT_EQ(o.reidentify_lost_tracks, d.reidentify_lost_tracks);
   EXPECT_DOUBLE_EQ(o.reidentify_min_age_s, d.reidentify_min_age_s);

@@ -74,6 +74,36 @@ TEST(MotionConsistencyChecker, MetricWithGyroPriorEvenWhenThePriorIsBiased) {
   EXPECT_LT(Eigen::AngleAxisd(r.R_cur_prev.transpose() * s.R).angle(), 1e-3);
 }
 
+TEST(MotionConsistencyChecker, AWideLensEdgeIsJudgedInItsOwnPixels) {
+  // Half the tracks lie where a wide lens packs 5x more normalised plane into a pixel: their
+  // 0.4 px of noise is 2 of the centre's pixels. Given their own scale they pass; the moving ones
+  // (6 px there) still fail.
+  std::mt19937 rng(9);
+  std::normal_distribution<double> noise(0.0, 0.4 * 5.0 / kFocal);
+  Scenario s = makeScenario(true, 3);
+  int edge = 0;
+  for (std::size_t i = 0; i < s.tracks.size(); i += 2) {
+    auto& c = s.tracks[i];
+    const Eigen::Vector3d Y = s.R * c.point_prev + s.t;
+    c.cur_normalized = Y.head<2>() / Y.z() + Eigen::Vector2d(noise(rng), noise(rng));
+    if (s.outlier[i]) {
+      const Eigen::Vector3d line = s.t.cross(s.R * c.prev_normalized.homogeneous());
+      c.cur_normalized += line.head<2>().normalized() * (6.0 * 5.0 / kFocal);
+    }
+    ++edge;
+  }
+  MotionConsistencyChecker checker(1.5, kFocal, 100, 8, 42);
+  const Eigen::Matrix3d prior = s.R;
+  const auto centre = checker.check(s.tracks, &prior);
+  int centre_wrong = 0;
+  for (std::size_t i = 0; i < s.tracks.size(); ++i)
+    centre_wrong += centre.labels[i] != (s.outlier[i] ? TrackLabel::kInconsistent : TrackLabel::kConsistent) ? 1 : 0;
+  EXPECT_GT(centre_wrong, edge / 4) << "the centre's scale fails static edge tracks";
+  for (std::size_t i = 0; i < s.tracks.size(); i += 2) s.tracks[i].pixel_scale = kFocal / 5.0;
+  const auto local = checker.check(s.tracks, &prior);
+  expectLabels(s, local);
+}
+
 TEST(MotionConsistencyChecker, DominantMotionWinsOverAWrongGyroRotation) {
   // The camera sees mostly a vehicle interior that does not turn with the IMU: 0.05 rad (22 px)
   // of gyro rotation the images do not show. Labels follow the images' dominant motion.

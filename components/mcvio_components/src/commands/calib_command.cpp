@@ -28,7 +28,7 @@ std::string describe(const StereoRigCalibration& rig) {
     const CameraModel& m = c.model;
     const Eigen::Vector4d& d = m.distortionCoefficients();
     os.precision(3);
-    const bool wide = isWideAngleModel(m.distortionModel());
+    const bool wide = isProjectionModel(m.distortionModel());
     os << "cam" << i << ": " << m.width() << "x" << m.height() << " " << (wide ? toString(m.distortionModel()) : "pinhole")
        << ", fu " << m.fu() << " fv " << m.fv() << " cu " << m.cu() << " cv " << m.cv();
     char b[128];
@@ -81,7 +81,9 @@ void addCalibCommand(CLI::App& app, CommandContext&) {
       "calib",
       "Show the stereo-inertial calibration as mcvio reads it from what --calib takes: a EuRoC folder\n"
       "(cam0/cam1/imu0 sensor.yaml) or Kalibr's camchain-imucam YAML (file, or its folder) with its\n"
-      "imu*.yaml beside it. Prints each camera's intrinsics, distortion, position and optical axis in the\n"
+      "imu*.yaml beside it. Camera models: pinhole with radtan, equidistant or no distortion, and the\n"
+      "wide-angle ds (double sphere) and eucm (extended unified) that Basalt and Kalibr calibrate.\n"
+      "Prints each camera's intrinsics, distortion, position and optical axis in the\n"
       "IMU frame, the stereo baseline, the topics Kalibr's rostopic names, the camera time shift and the\n"
       "IMU noise; --to-euroc writes the same as a EuRoC folder without data (DIR/mav0/cam0, cam1, imu0\n"
       "sensor.yaml), usable as --calib DIR; --to-kalibr writes Kalibr's camchain-imucam.yaml and imu.yaml\n"

@@ -28,7 +28,19 @@ DistortionModel distortionModelFromString(const std::string& name);
 int distortionCoefficientCount(DistortionModel model);
 /// True for the double sphere and extended unified models, which replace the pinhole rather
 /// than distort it (calibration files name them as the camera_model, not the distortion_model).
-bool isWideAngleModel(DistortionModel model);
+bool isProjectionModel(DistortionModel model);
+
+/// Which pixels-per-normalised-unit turns a normalised-coordinate error into pixels, for
+/// thresholds and weights (frontend and estimator option `pixel_scale`).
+enum class PixelScale {
+  kCentre,     ///< "centre": the focal length at the principal point, for every feature
+  kLocal,      ///< "local": the lens's own scale where the feature was seen (pixelScaleAt)
+  kWideAngle,  ///< "wide_angle": local for equidistant, double-sphere and extended-unified lenses
+};
+/// "centre", "local" or "wide_angle"; throws mcvio::InputError naming the value otherwise.
+PixelScale pixelScaleFromString(const std::string& name);
+/// Whether `scale` asks for the local scale on a lens of this model.
+bool usesLocalPixelScale(PixelScale scale, DistortionModel model);
 
 /// Camera with one of the lens models above.
 ///

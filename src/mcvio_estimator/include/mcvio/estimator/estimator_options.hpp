@@ -2,6 +2,7 @@
 #include <string>
 
 #include "mcvio/conflict/conflict_options.hpp"
+#include "mcvio/core/camera_model.hpp"
 
 namespace YAML {
 class Node;
@@ -24,11 +25,13 @@ struct EstimatorOptions {
 
   // Visual measurements.
   double observation_sigma_px = 1.0;         ///< pixel noise of a feature (whitening)
-  /// Whiten each visual residual by the lens's own pixels per normalised unit where the feature
-  /// was seen (true; the calibration's camera model, when the estimator has it) rather than the
-  /// focal length at the centre (false). A wide-angle lens's edge pixel covers much more of the
-  /// normalised plane than its centre pixel: one scale for all trusts its edges too much.
-  bool local_pixel_scale = false;
+  /// Pixels per normalised unit that whiten each visual residual: the focal length at the centre,
+  /// or the lens's own scale where the feature was seen (CameraModel::pixelScaleAt; needs the
+  /// estimator built from the rig's calibration). A wide lens's edge pixel covers much more of the
+  /// normalised plane than its centre pixel (a 140-degree double sphere's at 60 degrees 2.6x), so
+  /// one scale trusts its edges too much; on EuRoC's 77-degree radtan lens (0.68x in the corners)
+  /// the local scale measured no better, so wide_angle keeps the centre's for pinhole lenses.
+  PixelScale pixel_scale = PixelScale::kWideAngle;
   RobustLoss robust_loss = RobustLoss::kHuber;
   double robust_loss_scale_px = 3.0;         ///< where the robust loss starts to bend [px] (about 3 sigma)
   double outlier_threshold_px = 4.0;         ///< observations with larger error after a solve are dropped

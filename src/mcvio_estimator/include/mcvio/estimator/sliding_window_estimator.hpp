@@ -55,7 +55,7 @@ class SlidingWindowEstimator {
   SlidingWindowEstimator(const EstimatorOptions& options, const Eigen::Isometry3d& T_BC0,
                          const Eigen::Isometry3d& T_BC1, double focal_length_px, const ImuNoiseParams& imu_noise);
   /// Takes extrinsics, focal length (cam0's at the centre), camera models (for
-  /// EstimatorOptions::local_pixel_scale) and IMU noise from a rig calibration.
+  /// EstimatorOptions::pixel_scale) and IMU noise from a rig calibration.
   SlidingWindowEstimator(const EstimatorOptions& options, const StereoRigCalibration& rig);
   ~SlidingWindowEstimator();
   SlidingWindowEstimator(const SlidingWindowEstimator&) = delete;
@@ -206,10 +206,10 @@ class SlidingWindowEstimator {
   EstimatorOptions options_;
   Eigen::Isometry3d T_BC0_, T_BC1_, T_C1C0_;
   double focal_px_;
-  /// The rig's lenses, when constructed from its calibration (for local_pixel_scale).
+  /// The rig's lenses, when constructed from its calibration (for EstimatorOptions::pixel_scale).
   std::optional<std::array<CameraModel, 2>> cameras_;
   /// Pixels per unit of normalised coordinate at `normalised` in camera `camera`: the local
-  /// scale with local_pixel_scale and the lenses known, else focal_px_.
+  /// scale where EstimatorOptions::pixel_scale asks for it and the lenses are known, else focal_px_.
   double pixelScale(int camera, const Eigen::Vector2d& normalised) const;
   ImuNoiseParams imu_noise_;  ///< inflated
   Eigen::Vector3d gravity_;

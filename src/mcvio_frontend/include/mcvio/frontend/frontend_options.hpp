@@ -1,6 +1,8 @@
 #pragma once
 #include <string>
 
+#include "mcvio/core/camera_model.hpp"
+
 namespace YAML {
 class Node;
 }
@@ -59,6 +61,12 @@ struct FrontendOptions {
 
   // Geometric (motion) check
   double ransac_threshold_px = 1.5;  ///< reprojection / epipolar error for kConsistent
+  /// Pixels per normalised unit for the motion check's and the stereo check's thresholds: the
+  /// focal length at the centre, or the lens's own scale at the track (centre | local |
+  /// wide_angle: local for equidistant, ds and eucm lenses). A 160-degree equidistant lens's
+  /// edge pixel spans many centre pixels of normalised plane: with the centre's scale a tenth of
+  /// the static tracks there failed the motion check on every frame, a conflict in 93 % of them.
+  PixelScale pixel_scale = PixelScale::kWideAngle;
   int ransac_iterations = 100;       ///< hypotheses per frame (stops early when all agree)
   int min_tracks_for_check = 8;      ///< fewer temporal tracks: labels stay kUnknown
   unsigned ransac_seed = 42;         ///< deterministic sampling

@@ -29,6 +29,8 @@ class MotionConsistencyChecker {
     Eigen::Vector2d cur_normalized{0, 0};   ///< undistorted, current frame
     bool has_point = false;                 ///< stereo point available in the previous frame
     Eigen::Vector3d point_prev{0, 0, 1};    ///< that point in previous camera coordinates [m]
+    /// Pixels per normalised unit at cur_normalized; 0: the checker's focal_px.
+    double pixel_scale = 0.0;
   };
 
   struct Result {
@@ -56,6 +58,10 @@ class MotionConsistencyChecker {
                      const Eigen::Matrix3d* prior);
   Result checkEpipolar(const std::vector<Correspondence>& tracks, const Eigen::Matrix3d* prior);
   void labelAll(const std::vector<Correspondence>& tracks, Result* r) const;
+  // A normalised error in the units of threshold_ (the centre's), by the track's own scale.
+  double centreUnits(const Correspondence& tr, double e) const {
+    return tr.pixel_scale > 0.0 ? e * (tr.pixel_scale / focal_px_) : e;
+  }
 
   double threshold_;  // normalised units
   double focal_px_;
