@@ -361,9 +361,15 @@ double CameraModel::focalLengthAtCentre() const {
 }
 
 double CameraModel::pixelScaleAt(const Vec2& normalised) const {
+  return std::sqrt(std::abs(pixelJacobianAt(normalised).determinant()));
+}
+
+Eigen::Matrix2d CameraModel::pixelJacobianAt(const Vec2& normalised) const {
   Eigen::Matrix2d J;
   distort(normalised, &J);
-  return std::sqrt(std::abs(intrinsics_[0] * intrinsics_[1] * J.determinant()));
+  J.row(0) *= intrinsics_[0];
+  J.row(1) *= intrinsics_[1];
+  return J;
 }
 
 Eigen::Matrix3d CameraModel::cameraMatrix() const {

@@ -182,6 +182,9 @@ TEST(CameraModel, PixelScaleAtIsTheAreaAPixelCovers) {
       ASSERT_TRUE(cam.projectAnywhere((n + Eigen::Vector2d(0, h)).homogeneous(), &b));
       const double area = std::abs((a - o).x() * (b - o).y() - (a - o).y() * (b - o).x()) / (h * h);
       EXPECT_NEAR(cam.pixelScaleAt(n), std::sqrt(area), 1e-3 * std::sqrt(area)) << toString(cam.distortionModel());
+      Eigen::Matrix2d numeric;
+      numeric << (a - o) / h, (b - o) / h;
+      EXPECT_LT((cam.pixelJacobianAt(n) - numeric).norm(), 1e-3 * numeric.norm()) << toString(cam.distortionModel());
     }
   }
   // A wide lens's edge: a 60-degree ray's pixel covers far more of the normalised plane.

@@ -377,7 +377,8 @@ void FeatureTracker::trackTemporal(const std::vector<cv::Mat>& cur_pyr,
     MotionConsistencyChecker::Correspondence c;
     c.prev_normalized = t.left_norm;
     c.cur_normalized = norm;
-    if (usesLocalPixelScale(options_.pixel_scale, cam0.distortionModel())) c.pixel_scale = cam0.pixelScaleAt(norm);
+    if (usesLocalPixelScale(options_.pixel_scale, cam0.distortionModel()))
+      c.to_centre = cam0.pixelJacobianAt(norm) / cam0.focalLengthAtCentre();
     c.has_point = t.has_point;
     c.point_prev = t.point;
     corr.push_back(c);
@@ -619,7 +620,11 @@ void FeatureTracker::matchStereo(const std::vector<cv::Mat>& left_pyr,
     const Eigen::Vector3d x0 = t.left_norm.homogeneous();
     const Eigen::Vector3d x1 = rn.homogeneous();
     const Eigen::Vector3d line = E * x0;
-    const double epi_px = std::abs(x1.dot(line)) / line.head<2>().norm() * (local_scale ? cam1.pixelScaleAt(rn) : f1);
+    const double epi_norm = std::abs(x1.dot(line)) / line.head<2>().norm();
+    // In the lens's own pixels the line keeps its shape locally, with normal J^-T n.
+    const double epi_px =
+        local_scale ? epi_norm / (cam1.pixelJacobianAt(rn).inverse().transpose() * line.head<2>().normalized()).norm()
+                    : epi_norm * f1;
     if (!(epi_px <= options_.stereo_epipolar_threshold_px)) continue;
     // Depths along both rays: d1 x1 = d0 R x0 + t, least squares.
     Eigen::Matrix<double, 3, 2> a;

@@ -25,26 +25,40 @@ Eigen::Matrix3d expSO3(const Eigen::Vector3d& phi) {
   return Eigen::AngleAxisd(a, phi / a).toRotationMatrix();
 }
 
+// Every error below is a distance in normalised coordinates, or, given the track's
+// `to_centre` (d pixel / d normalised over the centre's focal length), the same distance measured
+// in the lens's pixels there, in units of the centre's pixels.
+double lengthOf(const Eigen::Vector2d& v, const Eigen::Matrix2d* to_centre) {
+  return to_centre ? (*to_centre * v).norm() : v.norm();
+}
+
 double reprojectionError(const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
-                         const Eigen::Vector3d& X, const Eigen::Vector2d& c) {
+                         const Eigen::Vector3d& X, const Eigen::Vector2d& c,
+                         const Eigen::Matrix2d* to_centre = nullptr) {
   const Eigen::Vector3d y = R * X + t;
   if (y.z() < 1e-6) return kInf;
-  return (y.head<2>() / y.z() - c).norm();
+  return lengthOf(y.head<2>() / y.z() - c, to_centre);
 }
 
 // Distance of c to the epipolar line of p; with no translation, the rotation-compensated motion.
 double epipolarError(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const Eigen::Vector2d& p,
-                     const Eigen::Vector2d& c) {
+                     const Eigen::Vector2d& c, const Eigen::Matrix2d* to_centre = nullptr) {
   const Eigen::Vector3d rp = R * p.homogeneous();
   const double tn = t.norm();
   if (tn < 1e-9) {
     if (rp.z() < 1e-9) return kInf;
-    return (rp.head<2>() / rp.z() - c).norm();
+    return lengthOf(rp.head<2>() / rp.z() - c, to_centre);
   }
   const Eigen::Vector3d line = (t / tn).cross(rp);
   const double den = line.head<2>().norm();
   if (den < 1e-12) return 0.0;
-  return std::abs(c.homogeneous().dot(line)) / den;
+  const double d = std::abs(c.homogeneous().dot(line)) / den;
+  if (!to_centre) return d;
+  // Under the local map the line stays a line, with normal to_centre^-T n: the distance of c
+  // from it is d / |to_centre^-T n|.
+  const Eigen::Vector2d n = line.head<2>() / den;
+  const double stretch = (to_centre->inverse().transpose() * n).norm();
+  return stretch > 0.0 && std::isfinite(stretch) ? d / stretch : kInf;
 }
 
 // A track without depth under a metric (R, t): its point lies somewhere on the ray of p between
@@ -52,7 +66,8 @@ double epipolarError(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const E
 // [0, rho_max]). Distance of c to that segment: unlike the full epipolar line, it rejects flow
 // that only a point behind the camera or nearer than min_depth could make.
 double depthBoundedError(const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
-                         const Eigen::Vector2d& p, const Eigen::Vector2d& c, double rho_max) {
+                         const Eigen::Vector2d& p, const Eigen::Vector2d& c, double rho_max,
+                         const Eigen::Matrix2d* to_centre = nullptr) {
   const Eigen::Vector3d far = R * p.homogeneous();
   if (far.z() < 1e-6) return kInf;
   if (t.z() < 0.0) rho_max = std::min(rho_max, 0.99 * (far.z() - 1e-6) / -t.z());
@@ -61,7 +76,7 @@ double depthBoundedError(const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
   const Eigen::Vector2d ab = b - a;
   const double len2 = ab.squaredNorm();
   const double s = len2 < 1e-18 ? 0.0 : std::clamp((c - a).dot(ab) / len2, 0.0, 1.0);
-  return (a + s * ab - c).norm();
+  return lengthOf(a + s * ab - c, to_centre);
 }
 
 // Translation given the rotation, least squares over the listed 3D-2D pairs.
@@ -155,14 +170,13 @@ void MotionConsistencyChecker::labelAll(const std::vector<Correspondence>& track
     const auto& tr = tracks[i];
     double e = 0.0;
     if (r->metric && tr.has_point) {
-      e = reprojectionError(r->R_cur_prev, r->t_cur_prev, tr.point_prev, tr.cur_normalized);
+      e = reprojectionError(r->R_cur_prev, r->t_cur_prev, tr.point_prev, tr.cur_normalized, toCentre(tr));
     } else if (r->metric) {
       e = depthBoundedError(r->R_cur_prev, r->t_cur_prev, tr.prev_normalized, tr.cur_normalized,
-                            1.0 / min_depth_m_);
+                            1.0 / min_depth_m_, toCentre(tr));
     } else {
-      e = epipolarError(r->R_cur_prev, r->t_cur_prev, tr.prev_normalized, tr.cur_normalized);
+      e = epipolarError(r->R_cur_prev, r->t_cur_prev, tr.prev_normalized, tr.cur_normalized, toCentre(tr));
     }
-    e = centreUnits(tr, e);
     r->residual_px[i] = e * focal_px_;
     const bool ok = e < threshold_;
     r->labels[i] = ok ? TrackLabel::kConsistent : TrackLabel::kInconsistent;
@@ -183,7 +197,7 @@ MotionConsistencyChecker::Result MotionConsistencyChecker::checkMetric(
     *count = 0;
     for (int i : with_point) {
       const auto& tr = tracks[static_cast<std::size_t>(i)];
-      const double e = centreUnits(tr, reprojectionError(R, t, tr.point_prev, tr.cur_normalized));
+      const double e = reprojectionError(R, t, tr.point_prev, tr.cur_normalized, toCentre(tr));
       if (e < threshold_) {
         c += e * e;
         ++*count;
@@ -239,7 +253,7 @@ MotionConsistencyChecker::Result MotionConsistencyChecker::checkMetric(
     std::vector<int> inliers;
     for (int i : with_point) {
       const auto& tr = tracks[static_cast<std::size_t>(i)];
-      if (centreUnits(tr, reprojectionError(r.R_cur_prev, r.t_cur_prev, tr.point_prev, tr.cur_normalized)) <
+      if (reprojectionError(r.R_cur_prev, r.t_cur_prev, tr.point_prev, tr.cur_normalized, toCentre(tr)) <
           threshold_) {
         inliers.push_back(i);
       }
@@ -269,7 +283,7 @@ MotionConsistencyChecker::Result MotionConsistencyChecker::checkEpipolar(
     auto score = [&](const Eigen::Vector3d& t) {
       int count = 0;
       for (const auto& tr : tracks) {
-        if (centreUnits(tr, epipolarError(*prior, t, tr.prev_normalized, tr.cur_normalized)) < threshold_) ++count;
+        if (epipolarError(*prior, t, tr.prev_normalized, tr.cur_normalized, toCentre(tr)) < threshold_) ++count;
       }
       return count;
     };

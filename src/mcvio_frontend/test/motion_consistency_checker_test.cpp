@@ -99,7 +99,7 @@ TEST(MotionConsistencyChecker, AWideLensEdgeIsJudgedInItsOwnPixels) {
   for (std::size_t i = 0; i < s.tracks.size(); ++i)
     centre_wrong += centre.labels[i] != (s.outlier[i] ? TrackLabel::kInconsistent : TrackLabel::kConsistent) ? 1 : 0;
   EXPECT_GT(centre_wrong, edge / 4) << "the centre's scale fails static edge tracks";
-  for (std::size_t i = 0; i < s.tracks.size(); i += 2) s.tracks[i].pixel_scale = kFocal / 5.0;
+  for (std::size_t i = 0; i < s.tracks.size(); i += 2) s.tracks[i].to_centre = Eigen::Matrix2d::Identity() / 5.0;
   const auto local = checker.check(s.tracks, &prior);
   expectLabels(s, local);
 }

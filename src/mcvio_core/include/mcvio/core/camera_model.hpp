@@ -124,6 +124,8 @@ class CameraModel {
   /// root of |det d pixel / d normalised|, the geometric mean of the lens's radial and tangential
   /// stretch there (focalLengthAtCentre() at the centre; less towards a wide lens's edge).
   double pixelScaleAt(const Vec2& normalised) const;
+  /// d pixel / d normalised at the undistorted point `normalised` (2x2).
+  Eigen::Matrix2d pixelJacobianAt(const Vec2& normalised) const;
 
  private:
   bool inValidRange(const Vec2& undistorted) const;

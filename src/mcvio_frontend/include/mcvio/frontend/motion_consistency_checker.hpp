@@ -29,8 +29,10 @@ class MotionConsistencyChecker {
     Eigen::Vector2d cur_normalized{0, 0};   ///< undistorted, current frame
     bool has_point = false;                 ///< stereo point available in the previous frame
     Eigen::Vector3d point_prev{0, 0, 1};    ///< that point in previous camera coordinates [m]
-    /// Pixels per normalised unit at cur_normalized; 0: the checker's focal_px.
-    double pixel_scale = 0.0;
+    /// d pixel / d normalised at cur_normalized, over the checker's focal_px; zero: the identity
+    /// (every track judged by the centre's scale). A wide lens's edge stretches a normalised
+    /// error unevenly: radially far less than across.
+    Eigen::Matrix2d to_centre = Eigen::Matrix2d::Zero();
   };
 
   struct Result {
@@ -58,9 +60,8 @@ class MotionConsistencyChecker {
                      const Eigen::Matrix3d* prior);
   Result checkEpipolar(const std::vector<Correspondence>& tracks, const Eigen::Matrix3d* prior);
   void labelAll(const std::vector<Correspondence>& tracks, Result* r) const;
-  // A normalised error in the units of threshold_ (the centre's), by the track's own scale.
-  double centreUnits(const Correspondence& tr, double e) const {
-    return tr.pixel_scale > 0.0 ? e * (tr.pixel_scale / focal_px_) : e;
+  static const Eigen::Matrix2d* toCentre(const Correspondence& tr) {
+    return tr.to_centre.isZero(0.0) ? nullptr : &tr.to_centre;
   }
 
   double threshold_;  // normalised units
