@@ -80,7 +80,7 @@ PixelScale pixelScaleFromString(const std::string& name) {
   if (name == "centre") return PixelScale::kCentre;
   if (name == "local") return PixelScale::kLocal;
   if (name == "wide_angle") return PixelScale::kWideAngle;
-  throw InputError("unknown pixel scale '" + name + "' (expected centre, local or wide_angle)");
+  throw InputError("key 'pixel_scale': unknown pixel scale '" + name + "' (expected centre, local or wide_angle)");
 }
 
 bool usesLocalPixelScale(PixelScale scale, DistortionModel model) {

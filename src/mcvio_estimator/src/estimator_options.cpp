@@ -91,11 +91,7 @@ EstimatorOptions EstimatorOptions::fromYaml(const YAML::Node& node, const std::s
     if (f.has("pixel_scale")) {
       std::string scale;
       f.get("pixel_scale", &scale);
-      try {
-        o.pixel_scale = pixelScaleFromString(scale);
-      } catch (const InputError& e) {
-        throw InputError(std::string("estimator option 'pixel_scale': ") + e.what());
-      }
+      o.pixel_scale = pixelScaleFromString(scale);
     }
     if (f.has("robust_loss")) {
       std::string loss;

@@ -99,11 +99,7 @@ FrontendOptions FrontendOptions::fromYaml(const YAML::Node& node, const std::str
     if (f.has("pixel_scale")) {
       std::string scale;
       f.get("pixel_scale", &scale);
-      try {
-        o.pixel_scale = pixelScaleFromString(scale);
-      } catch (const InputError& e) {
-        throw InputError(std::string("frontend option 'pixel_scale': ") + e.what());
-      }
+      o.pixel_scale = pixelScaleFromString(scale);
     }
     f.get("ransac_iterations", &o.ransac_iterations);
     f.get("min_tracks_for_check", &o.min_tracks_for_check);

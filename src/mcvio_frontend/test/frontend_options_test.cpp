@@ -44,7 +44,7 @@ TEST(FrontendOptions, ErrorsNameTheKey) {
   EXPECT_NE(errorOf("exposure_normalization: auto").find("exposure_normalization"),
             std::string::npos);
   EXPECT_EQ(errorOf("max_features: 100"), "");
-  EXPECT_NE(errorOf("pixel_scale: edge").find("frontend option 'pixel_scale': unknown pixel scale 'edge' (expected centre, local or wide_angle)"),
+  EXPECT_NE(errorOf("pixel_scale: edge").find("test.yaml: key 'pixel_scale': unknown pixel scale 'edge' (expected centre, local or wide_angle)"),
             std::string::npos)
       << errorOf("pixel_scale: edge");
   EXPECT_EQ(FrontendOptions::fromYaml(YAML::Load("pixel_scale: centre")).pixel_scale, PixelScale::kCentre);

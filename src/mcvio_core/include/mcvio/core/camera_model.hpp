@@ -37,7 +37,8 @@ enum class PixelScale {
   kLocal,      ///< "local": the lens's own scale where the feature was seen (pixelScaleAt)
   kWideAngle,  ///< "wide_angle": local for equidistant, double-sphere and extended-unified lenses
 };
-/// "centre", "local" or "wide_angle"; throws mcvio::InputError naming the value otherwise.
+/// "centre", "local" or "wide_angle"; throws mcvio::InputError naming the key pixel_scale and
+/// the value otherwise.
 PixelScale pixelScaleFromString(const std::string& name);
 /// Whether `scale` asks for the local scale on a lens of this model.
 bool usesLocalPixelScale(PixelScale scale, DistortionModel model);
