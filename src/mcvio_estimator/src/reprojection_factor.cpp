@@ -17,7 +17,15 @@ ReprojectionFactor::ReprojectionFactor(const Eigen::Vector2d& measured, const Ei
       R_CB_(T_BC.linear().transpose()),
       t_BC0_(T_BC0.translation()),
       t_BC_(T_BC.translation()),
-      scale_(scale) {}
+      scale_(scale),
+      sqrt_information_(scale * Eigen::Matrix2d::Identity()) {}
+
+ReprojectionFactor::ReprojectionFactor(const Eigen::Vector2d& measured, const Eigen::Isometry3d& T_BC0,
+                                       const Eigen::Isometry3d& T_BC, const Eigen::Matrix2d& sqrt_information)
+    : ReprojectionFactor(measured, T_BC0, T_BC, 1.0) {
+  sqrt_information_ = sqrt_information;
+  isotropic_ = false;
+}
 
 bool ReprojectionFactor::pointInCamera(const double* anchor_pose, const double* pose, const double* l,
                                        Eigen::Vector3d* p_C) const {
@@ -46,13 +54,20 @@ bool ReprojectionFactor::Evaluate(double const* const* parameters, double* resid
   const Eigen::Vector3d p_C = R_CB_ * (p_Bt - t_BC_);
   if (p_C.z() < kMinDepth) return false;
   const double inv_z = 1.0 / p_C.z();
-  residuals[0] = scale_ * (p_C.x() * inv_z - measured_.x());
-  residuals[1] = scale_ * (p_C.y() * inv_z - measured_.y());
-  if (jacobians == nullptr) return true;
-
   Eigen::Matrix<double, 2, 3> J_proj;
-  const double s_z = scale_ * inv_z;
-  J_proj << s_z, 0, -p_C.x() * inv_z * s_z, 0, s_z, -p_C.y() * inv_z * s_z;
+  if (isotropic_) {
+    residuals[0] = scale_ * (p_C.x() * inv_z - measured_.x());
+    residuals[1] = scale_ * (p_C.y() * inv_z - measured_.y());
+    if (jacobians == nullptr) return true;
+    const double s_z = scale_ * inv_z;
+    J_proj << s_z, 0, -p_C.x() * inv_z * s_z, 0, s_z, -p_C.y() * inv_z * s_z;
+  } else {
+    Eigen::Map<Eigen::Vector2d> r(residuals);
+    r = sqrt_information_ * (p_C.head<2>() * inv_z - measured_);
+    if (jacobians == nullptr) return true;
+    J_proj << inv_z, 0, -p_C.x() * inv_z * inv_z, 0, inv_z, -p_C.y() * inv_z * inv_z;
+    J_proj = sqrt_information_ * J_proj;
+  }
   const Eigen::Matrix<double, 2, 3> J_pb = J_proj * R_CB_;            // d r / d p_Bt
   const Eigen::Matrix<double, 2, 3> J_pw = J_pb * R_t.transpose();   // d r / d p_W
   if (jacobians[0] != nullptr) {

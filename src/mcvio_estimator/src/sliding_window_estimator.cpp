@@ -164,12 +164,14 @@ SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options, 
   cameras_ = std::array<CameraModel, 2>{rig.cam0.model, rig.cam1.model};
 }
 
-double SlidingWindowEstimator::pixelScale(int camera, const Eigen::Vector2d& normalised) const {
-  if (!cameras_) return focal_px_;
+std::optional<Eigen::Matrix2d> SlidingWindowEstimator::localPixelJacobian(int camera,
+                                                                          const Eigen::Vector2d& normalised) const {
+  if (!cameras_) return std::nullopt;
   const CameraModel& lens = (*cameras_)[static_cast<std::size_t>(camera)];
-  if (!usesLocalPixelScale(options_.pixel_scale, lens.distortionModel())) return focal_px_;
-  const double s = lens.pixelScaleAt(normalised);
-  return s > 0.0 && std::isfinite(s) ? s : focal_px_;
+  if (!usesLocalPixelScale(options_.pixel_scale, lens.distortionModel())) return std::nullopt;
+  const Eigen::Matrix2d J = lens.pixelJacobianAt(normalised);
+  if (!J.allFinite() || !(std::abs(J.determinant()) > 0.0)) return std::nullopt;
+  return J;
 }
 
 SlidingWindowEstimator::~SlidingWindowEstimator() {
@@ -677,12 +679,17 @@ void SlidingWindowEstimator::solve(EstimatorOutput* out) {
       c.frame_id = frame_id;
       c.camera = camera;
       c.in_anchor = in_anchor;
-      const double scale = pixelScale(camera, measured) / options_.observation_sigma_px;
-      if (in_anchor)
-        c.cost = std::make_unique<AnchorObservationFactor>(measured, camera == 0 ? Eigen::Isometry3d::Identity() : T_C1C0_,
-                                                           scale);
-      else
-        c.cost = std::make_unique<ReprojectionFactor>(measured, T_BC0_, camera == 0 ? T_BC0_ : T_BC1_, scale);
+      const Eigen::Isometry3d& T_CC0 = camera == 0 ? Eigen::Isometry3d::Identity() : T_C1C0_;
+      const Eigen::Isometry3d& T_BC = camera == 0 ? T_BC0_ : T_BC1_;
+      if (const auto J = localPixelJacobian(camera, measured)) {
+        const Eigen::Matrix2d sqrt_information = *J / options_.observation_sigma_px;
+        if (in_anchor) c.cost = std::make_unique<AnchorObservationFactor>(measured, T_CC0, sqrt_information);
+        else c.cost = std::make_unique<ReprojectionFactor>(measured, T_BC0_, T_BC, sqrt_information);
+      } else {
+        const double scale = focal_px_ / options_.observation_sigma_px;
+        if (in_anchor) c.cost = std::make_unique<AnchorObservationFactor>(measured, T_CC0, scale);
+        else c.cost = std::make_unique<ReprojectionFactor>(measured, T_BC0_, T_BC, scale);
+      }
       costs.push_back(std::move(c));
       return costs.back();
     };

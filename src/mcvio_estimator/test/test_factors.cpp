@@ -94,6 +94,34 @@ TEST(ReprojectionFactor, JacobiansMatchNumerical) {
   }
 }
 
+// A wide lens's 2x2 whitening: the residual is W times the normalised error, the Jacobians
+// follow it, and W = s I gives the scalar path's numbers.
+TEST(ReprojectionFactor, TwoByTwoWhiteningWeighsTheNormalisedError) {
+  const Eigen::Isometry3d T_BC0 = makeExtrinsic({0.01, -0.02, 1.5}, {0.05, -0.01, 0.02});
+  auto pose_a = makePose({0.1, 0.2, 0.3}, so3::expQuat({0.1, -0.2, 0.3}));
+  auto pose_t = makePose({0.4, -0.1, 0.35}, so3::expQuat({0.15, -0.1, 0.45}));
+  std::vector<double> landmark{0.1, -0.05, 1.0 / 4.0};
+  const double* params[] = {pose_a.data(), pose_t.data(), landmark.data()};
+  const Eigen::Vector2d measured(0.12, -0.03);
+  Eigen::Matrix2d W;
+  W << 610.0, -85.0, -85.0, 240.0;  // stretched radially, as at a fisheye's edge
+  const ReprojectionFactor wide(measured, T_BC0, T_BC0, W);
+  const ReprojectionFactor unit(measured, T_BC0, T_BC0, 1.0);
+  Eigen::Vector2d r_wide, r_unit;
+  ASSERT_TRUE(wide.Evaluate(params, r_wide.data(), nullptr));
+  ASSERT_TRUE(unit.Evaluate(params, r_unit.data(), nullptr));
+  EXPECT_GT(r_unit.norm(), 1e-3);
+  EXPECT_LT((r_wide - W * r_unit).norm(), 1e-9 * r_wide.norm());
+  checkJacobians(wide, {pose_a, pose_t, landmark}, 1e-6);
+
+  const ReprojectionFactor scalar(measured, T_BC0, T_BC0, 458.0);
+  const ReprojectionFactor diagonal(measured, T_BC0, T_BC0, Eigen::Matrix2d(458.0 * Eigen::Matrix2d::Identity()));
+  Eigen::Vector2d r_s, r_d;
+  ASSERT_TRUE(scalar.Evaluate(params, r_s.data(), nullptr));
+  ASSERT_TRUE(diagonal.Evaluate(params, r_d.data(), nullptr));
+  EXPECT_LT((r_s - r_d).norm(), 1e-9 * r_s.norm());
+}
+
 TEST(ReprojectionFactor, ResidualZeroForConsistentGeometry) {
   const Eigen::Isometry3d T_BC0 = makeExtrinsic({0.0, 0.0, 1.57}, {0.0, 0.0, 0.0});
   const Eigen::Vector3d p_W(3.0, 1.0, 0.5);
@@ -136,6 +164,22 @@ TEST(AnchorObservationFactor, JacobianMatchesNumericalAndZeroOnTruth) {
   EXPECT_GT(r.norm(), 1.0);
   ASSERT_TRUE(left.Evaluate(far_params, r.data(), nullptr));
   EXPECT_LT(r.norm(), 1e-9);
+}
+
+TEST(AnchorObservationFactor, TwoByTwoWhiteningWeighsTheNormalisedError) {
+  const Eigen::Isometry3d T_C1C0 = makeExtrinsic({0.001, 0.002, -0.001}, {-0.11, 0.001, 0.0005});
+  const Eigen::Vector2d measured(0.07, -0.06);
+  Eigen::Matrix2d W;
+  W << 300.0, 40.0, 40.0, 520.0;
+  const AnchorObservationFactor wide(measured, T_C1C0, W), unit(measured, T_C1C0, 1.0);
+  std::vector<double> landmark{0.1, -0.05, 0.3};
+  const double* params[] = {landmark.data()};
+  Eigen::Vector2d r_wide, r_unit;
+  ASSERT_TRUE(wide.Evaluate(params, r_wide.data(), nullptr));
+  ASSERT_TRUE(unit.Evaluate(params, r_unit.data(), nullptr));
+  EXPECT_GT(r_unit.norm(), 1e-3);
+  EXPECT_LT((r_wide - W * r_unit).norm(), 1e-9 * r_wide.norm());
+  checkJacobians(wide, {landmark}, 1e-6);
 }
 
 TEST(ImuFactor, MatchesPreintegratorResidualAndVanishesOnExactData) {

@@ -14,6 +14,9 @@ class AnchorObservationFactor : public ceres::SizedCostFunction<2, 3> {
   /// @param measured undistorted normalised coordinates in the observing camera.
   /// @param T_CC0 anchor cam0 -> observing camera (p_C = T_CC0 p_C0); identity for cam0.
   AnchorObservationFactor(const Eigen::Vector2d& measured, const Eigen::Isometry3d& T_CC0, double scale);
+  /// @param sqrt_information 2x2 whitening of the normalised residual, as in ReprojectionFactor.
+  AnchorObservationFactor(const Eigen::Vector2d& measured, const Eigen::Isometry3d& T_CC0,
+                          const Eigen::Matrix2d& sqrt_information);
 
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
 
@@ -22,6 +25,8 @@ class AnchorObservationFactor : public ceres::SizedCostFunction<2, 3> {
   Eigen::Matrix3d R_CC0_;
   Eigen::Vector3d t_CC0_;
   double scale_;
+  Eigen::Matrix2d sqrt_information_;
+  bool isotropic_ = true;
 };
 
 }  // namespace mcvio::estimator

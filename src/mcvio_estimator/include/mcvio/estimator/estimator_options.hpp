@@ -25,12 +25,13 @@ struct EstimatorOptions {
 
   // Visual measurements.
   double observation_sigma_px = 1.0;         ///< pixel noise of a feature (whitening)
-  /// Pixels per normalised unit that whiten each visual residual: the focal length at the centre,
-  /// or the lens's own scale where the feature was seen (CameraModel::pixelScaleAt; needs the
-  /// estimator built from the rig's calibration). A wide lens's edge pixel covers much more of the
-  /// normalised plane than its centre pixel (a 140-degree double sphere's at 60 degrees 2.6x), so
-  /// one scale trusts its edges too much; on EuRoC's 77-degree radtan lens (0.68x in the corners)
-  /// the local scale measured no better, so wide_angle keeps the centre's for pinhole lenses.
+  /// How pixels whiten each visual residual (which lives on the normalised plane): the focal
+  /// length at the centre, or the lens's own 2x2 pixel Jacobian where the feature was seen
+  /// (CameraModel::pixelJacobianAt; needs the estimator built from the rig's calibration). A wide
+  /// lens's edge pixel covers much more of the normalised plane than its centre pixel, and more
+  /// radially than across (a 140-degree double sphere's at 60 degrees 2.6x), so one scale trusts
+  /// its edges too much; on EuRoC's 77-degree radtan lens (0.68x in the corners) a local scale
+  /// measured no better, so wide_angle keeps the centre's for pinhole lenses.
   PixelScale pixel_scale = PixelScale::kWideAngle;
   RobustLoss robust_loss = RobustLoss::kHuber;
   double robust_loss_scale_px = 3.0;         ///< where the robust loss starts to bend [px] (about 3 sigma)

@@ -208,9 +208,10 @@ class SlidingWindowEstimator {
   double focal_px_;
   /// The rig's lenses, when constructed from its calibration (for EstimatorOptions::pixel_scale).
   std::optional<std::array<CameraModel, 2>> cameras_;
-  /// Pixels per unit of normalised coordinate at `normalised` in camera `camera`: the local
-  /// scale where EstimatorOptions::pixel_scale asks for it and the lenses are known, else focal_px_.
-  double pixelScale(int camera, const Eigen::Vector2d& normalised) const;
+  /// The lens's 2x2 pixel Jacobian at `normalised` in camera `camera`, where
+  /// EstimatorOptions::pixel_scale asks for the local scale and the lenses are known; nullopt
+  /// for the isotropic focal_px_.
+  std::optional<Eigen::Matrix2d> localPixelJacobian(int camera, const Eigen::Vector2d& normalised) const;
   ImuNoiseParams imu_noise_;  ///< inflated
   Eigen::Vector3d gravity_;
   PoseManifold pose_manifold_;
