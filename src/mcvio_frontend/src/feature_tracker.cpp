@@ -5,7 +5,9 @@
 #include <cmath>
 #include <cstdint>
 #include <ctime>
+#include <filesystem>
 #include <opencv2/features2d.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 #include <string>
@@ -78,6 +80,24 @@ TrackReidentifier::Options reidentifierOptions(const FrontendOptions& o) {
 FeatureTracker::FeatureTracker(const FrontendOptions& options)
     : options_(options), gyro_(options.max_imu_gap_ns), reidentifier_(reidentifierOptions(options)) {
   options_.validate();
+  for (int i = 0; i < 2; ++i) {
+    const std::string& path = i == 0 ? options_.mask0 : options_.mask1;
+    if (path.empty()) continue;
+    const std::string key = "frontend option 'mask" + std::to_string(i) + "'";
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) throw InputError(key + ": no mask image at '" + path + "'");
+    const cv::Mat image = cv::imread(path, cv::IMREAD_GRAYSCALE);
+    if (image.empty()) throw InputError(key + ": cannot read the mask image '" + path + "' (not an image OpenCV decodes)");
+    cv::Mat& mask = masks_[static_cast<std::size_t>(i)];
+    cv::threshold(image, mask, 127, 255, cv::THRESH_BINARY);
+  }
+}
+
+bool FeatureTracker::masked(int camera, const cv::Point2f& px) const {
+  const cv::Mat& mask = masks_[static_cast<std::size_t>(camera)];
+  if (mask.empty()) return false;
+  const int x = std::clamp(cvRound(px.x), 0, mask.cols - 1), y = std::clamp(cvRound(px.y), 0, mask.rows - 1);
+  return mask.at<uchar>(y, x) != 0;
 }
 
 void FeatureTracker::setCalibration(const StereoRigCalibration& calibration) {
@@ -101,6 +121,16 @@ void FeatureTracker::setCalibration(const StereoRigCalibration& calibration) {
   if (calibration.baseline() < 1e-3) {
     throw InputError("frontend calibration: stereo baseline is " +
                      std::to_string(calibration.baseline()) + " m; cam0 and cam1 must be apart");
+  }
+  for (int i = 0; i < 2; ++i) {
+    const cv::Mat& mask = masks_[static_cast<std::size_t>(i)];
+    const CameraModel& model = calibration.camera(i).model;
+    if (!mask.empty() && (mask.cols != model.width() || mask.rows != model.height())) {
+      throw InputError("frontend option 'mask" + std::to_string(i) + "': the mask '" + (i == 0 ? options_.mask0 : options_.mask1) +
+                       "' is " + std::to_string(mask.cols) + "x" + std::to_string(mask.rows) + ", " +
+                       calibration.camera(i).name + " is " + std::to_string(model.width()) + "x" +
+                       std::to_string(model.height()));
+    }
   }
   calibration_ = calibration;
   const CameraModel& cam0 = calibration.cam0.model;
@@ -366,7 +396,7 @@ void FeatureTracker::trackTemporal(const std::vector<cv::Mat>& cur_pyr,
     const cv::Point2f d = back_pts[i] - prev_pts[i];
     Eigen::Vector2d norm;
     if (!st_fwd[i] || !st_bwd[i] || d.dot(d) > fb2 ||
-        !cam0.isInImage(toEigen(cur_pts[i]), options_.border_px) ||
+        !cam0.isInImage(toEigen(cur_pts[i]), options_.border_px) || masked(0, cur_pts[i]) ||
         !cam0.unproject(toEigen(cur_pts[i]), &norm)) {
       ++stats->lost;
       if (reidentify) lost_.emplace_back(tracks_[i].id, prev_pts[i]);
@@ -403,8 +433,12 @@ void FeatureTracker::detectNew(const cv::Mat& image, Timestamp t_frame, Tracking
   if (counted >= max_features) return;
   const int w = image.cols, h = image.rows;
   const int radius = static_cast<int>(std::ceil(options_.min_distance_px));
-  occupancy_.create(h, w, CV_8UC1);
-  occupancy_.setTo(0);
+  if (!masks_[0].empty() && masks_[0].size() == image.size()) {
+    masks_[0].copyTo(occupancy_);
+  } else {
+    occupancy_.create(h, w, CV_8UC1);
+    occupancy_.setTo(0);
+  }
   const int cols = options_.grid_cols, rows = options_.grid_rows;
   std::vector<int> cell_count(static_cast<std::size_t>(cols * rows), 0);
   const int b = options_.border_px;
@@ -491,7 +525,8 @@ void FeatureTracker::detectNew(const cv::Mat& image, Timestamp t_frame, Tracking
   for (std::size_t k = 0; k < fresh.size(); ++k) {
     const cv::Point2f& p = fresh[k];
     Track t;
-    if (!cam0.isInImage(toEigen(p), b) || !cam0.unproject(toEigen(p), &t.left_norm)) continue;
+    // Sub-pixel refinement may have moved a corner over the border or into the mask.
+    if (!cam0.isInImage(toEigen(p), b) || masked(0, p) || !cam0.unproject(toEigen(p), &t.left_norm)) continue;
     t.id = known[k] != 0 ? known[k] : next_id_++;
     stats->reidentified += known[k] != 0 ? 1 : 0;
     t.left = p;
@@ -614,7 +649,7 @@ void FeatureTracker::matchStereo(const std::vector<cv::Mat>& left_pyr,
     const cv::Point2f d = back[i] - lpts[i];
     Eigen::Vector2d rn;
     if (!st_fwd[i] || !st_bwd[i] || d.dot(d) > fb2 || !cam1.isInImage(toEigen(rpts[i]), 1.0) ||
-        !cam1.unproject(toEigen(rpts[i]), &rn)) {
+        masked(1, rpts[i]) || !cam1.unproject(toEigen(rpts[i]), &rn)) {
       continue;
     }
     const Eigen::Vector3d x0 = t.left_norm.homogeneous();

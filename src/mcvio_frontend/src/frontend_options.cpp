@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <filesystem>
 
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/core/yaml_fields.hpp"
@@ -109,6 +110,8 @@ FrontendOptions FrontendOptions::fromYaml(const YAML::Node& node, const std::str
     f.get("reidentify_max_age_s", &o.reidentify_max_age_s);
     f.get("reidentify_max_hamming", &o.reidentify_max_hamming);
     f.get("reidentify_ratio", &o.reidentify_ratio);
+    f.get("mask0", &o.mask0);
+    f.get("mask1", &o.mask1);
     f.get("history_length", &o.history_length);
     f.rejectUnknown();
     o.validate();
@@ -120,8 +123,14 @@ FrontendOptions FrontendOptions::fromYaml(const YAML::Node& node, const std::str
 
 FrontendOptions FrontendOptions::fromFile(const std::string& path) {
   const YAML::Node root = loadYamlFile(path, "frontend options file");
-  if (root.IsMap() && root["frontend"]) return fromYaml(root["frontend"], path);
-  return fromYaml(root, path);
+  FrontendOptions o = root.IsMap() && root["frontend"] ? fromYaml(root["frontend"], path) : fromYaml(root, path);
+  o.resolvePathsFrom(std::filesystem::path(path).parent_path().string());
+  return o;
+}
+
+void FrontendOptions::resolvePathsFrom(const std::string& dir) {
+  for (std::string* mask : {&mask0, &mask1})
+    if (!mask->empty() && std::filesystem::path(*mask).is_relative()) *mask = (std::filesystem::path(dir) / *mask).string();
 }
 
 }  // namespace mcvio::frontend

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <filesystem>
 #include <fstream>
 
 #include "mcvio/core/input_error.hpp"
@@ -57,6 +58,21 @@ TEST(FrontendOptions, FileWithFrontendSection) {
   EXPECT_EQ(o.grid_cols, 10);
   EXPECT_DOUBLE_EQ(o.ransac_threshold_px, 2.5);
   EXPECT_THROW(FrontendOptions::fromFile("/nonexistent/frontend.yaml"), InputError);
+}
+
+// As OpenVINS's mask0 / mask1: a relative path is relative to the file that names it.
+TEST(FrontendOptions, MaskPathsAreRelativeToTheirFile) {
+  const std::string dir = ::testing::TempDir() + "/frontend_masks_cfg";
+  std::filesystem::create_directories(dir);
+  const std::string path = dir + "/frontend.yaml";
+  std::ofstream(path) << "mask0: masks/left.png\nmask1: /abs/right.png\n";
+  const FrontendOptions o = FrontendOptions::fromFile(path);
+  EXPECT_EQ(o.mask0, dir + "/masks/left.png");
+  EXPECT_EQ(o.mask1, "/abs/right.png");
+  EXPECT_EQ(FrontendOptions::fromYaml(YAML::Load("mask0: left.png")).mask0, "left.png");
+  EXPECT_TRUE(FrontendOptions().mask0.empty());
+  EXPECT_THROW(FrontendOptions::fromYaml(YAML::Load("mask0: [1, 2]")), InputError);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(FrontendOptions, ShippedConfigLoads) {

@@ -1,6 +1,7 @@
 #include "mcvio/pipeline/vio_pipeline.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <stdexcept>
 
 #include <yaml-cpp/yaml.h>
@@ -39,7 +40,9 @@ VioPipelineOptions fromYaml(const YAML::Node& root, const std::string& where) {
 }  // namespace
 
 VioPipelineOptions VioPipelineOptions::fromYamlFile(const std::string& path) {
-  return fromYaml(loadYamlFile(path, "pipeline config file"), path);
+  VioPipelineOptions o = fromYaml(loadYamlFile(path, "pipeline config file"), path);
+  o.frontend.resolvePathsFrom(std::filesystem::path(path).parent_path().string());
+  return o;
 }
 
 VioPipelineOptions VioPipelineOptions::shipped() {

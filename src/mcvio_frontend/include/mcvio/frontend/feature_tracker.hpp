@@ -1,5 +1,6 @@
 #pragma once
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <deque>
 #include <memory>
@@ -37,12 +38,12 @@ namespace mcvio::frontend {
 ///   cv::Mat vis = drawTracks(left, tracker.trackHistories());
 class FeatureTracker {
  public:
-  /// Throws mcvio::InputError if the options are invalid.
+  /// Throws mcvio::InputError if the options are invalid or a mask image cannot be read.
   explicit FeatureTracker(const FrontendOptions& options = FrontendOptions());
 
   /// Sets (or replaces) the stereo calibration (cam0 = left, cam1 = right, T_BC of each).
   /// Throws mcvio::InputError if it is unusable (different resolutions, no baseline, non-rigid
-  /// extrinsics). Replacing it resets the tracks.
+  /// extrinsics, a mask of another size than its camera). Replacing it resets the tracks.
   void setCalibration(const StereoRigCalibration& calibration);
   bool hasCalibration() const { return calibration_.has_value(); }
 
@@ -76,6 +77,8 @@ class FeatureTracker {
   };
 
   void prepareImage(const cv::Mat& raw, cv::Mat* out) const;
+  /// True where camera `camera`'s mask (FrontendOptions::mask0 / mask1) holds no feature.
+  bool masked(int camera, const cv::Point2f& px) const;
   void buildPyramid(const cv::Mat& image, std::vector<cv::Mat>* pyramid) const;
   void trackTemporal(const std::vector<cv::Mat>& cur_pyr, const Eigen::Matrix3d* R_cur_prev,
                      TrackingStats* stats);
@@ -100,6 +103,7 @@ class FeatureTracker {
   std::uint64_t next_id_ = 1;
   std::uint32_t frame_index_ = 0;
   cv::Mat occupancy_;  // detection mask buffer, reused
+  std::array<cv::Mat, 2> masks_;  ///< 255 where no feature may be; empty = no mask
 };
 
 }  // namespace mcvio::frontend

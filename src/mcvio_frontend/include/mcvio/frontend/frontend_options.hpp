@@ -85,6 +85,14 @@ struct FrontendOptions {
   int reidentify_max_hamming = 40;
   double reidentify_ratio = 0.8;
 
+  // Masks, as OpenVINS's mask0 / mask1: an 8-bit image of the camera's size per camera whose
+  // white pixels (> 127) hold no feature (a robot's own body, a car's bonnet, a fixed lens hood:
+  // parts that move with the camera and would look like a motion conflict). Nothing is detected
+  // there, a track that enters one is dropped, and a stereo match that lands in cam1's is refused.
+  // Empty = none. A relative path in a YAML file is relative to that file's folder.
+  std::string mask0;
+  std::string mask1;
+
   // Visualisation
   int history_length = 20;  ///< past positions kept per track for drawing
 
@@ -93,8 +101,11 @@ struct FrontendOptions {
   /// Reads the keys present in `node` (a map) over the defaults, then validates.
   /// `context` (e.g. a file name) prefixes error messages.
   static FrontendOptions fromYaml(const YAML::Node& node, const std::string& context = "frontend");
-  /// Loads a YAML file; the options are the root map or its `frontend` entry.
+  /// Loads a YAML file; the options are the root map or its `frontend` entry. Relative mask
+  /// paths are taken relative to the file's folder.
   static FrontendOptions fromFile(const std::string& path);
+  /// Makes relative mask paths relative to `dir` (the folder of the file they were read from).
+  void resolvePathsFrom(const std::string& dir);
 };
 
 }  // namespace mcvio::frontend

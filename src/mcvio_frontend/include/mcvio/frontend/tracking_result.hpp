@@ -30,7 +30,7 @@ struct TrackHistory {
 /// Counters of one processed frame.
 struct TrackingStats {
   int tracked = 0;         ///< tracks carried over from the previous frame
-  int lost = 0;            ///< tracks dropped (KLT failure, forward-backward, out of image)
+  int lost = 0;            ///< tracks dropped (KLT failure, forward-backward, out of image, into a mask)
   int detected = 0;        ///< new tracks
   int reidentified = 0;    ///< of the new tracks, lost ones recognised again (their old ids)
   int stereo_matched = 0;  ///< tracks with a right observation
