@@ -178,7 +178,7 @@ struct FrontendComponent::Impl {
       features_pub->publish(toFeatureFrameMsg(result.features));
       ++stats.frames_published;
       if (tracks_pub) {
-        cv::Mat rgb = frontend::drawTracks(in.left, tracker.trackHistories());
+        cv::Mat rgb = frontend::drawTracks(in.left, tracker.trackHistories(), tracker.mask(0));
         Image msg;
         msg.header(makeHeader(in.t, "cam0"));
         msg.height(static_cast<std::uint32_t>(rgb.rows));

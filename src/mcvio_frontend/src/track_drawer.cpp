@@ -6,7 +6,7 @@
 
 namespace mcvio::frontend {
 
-cv::Mat drawTracks(const cv::Mat& image, const std::vector<TrackHistory>& tracks) {
+cv::Mat drawTracks(const cv::Mat& image, const std::vector<TrackHistory>& tracks, const cv::Mat& mask) {
   cv::Mat rgb;
   if (image.type() == CV_8UC1) {
     cv::cvtColor(image, rgb, cv::COLOR_GRAY2RGB);
@@ -15,6 +15,14 @@ cv::Mat drawTracks(const cv::Mat& image, const std::vector<TrackHistory>& tracks
   } else {
     throw InputError("drawTracks: image must be mono8 or rgb8, got " +
                      cv::typeToString(image.type()));
+  }
+  if (!mask.empty()) {
+    if (mask.type() != CV_8UC1 || mask.size() != image.size())
+      throw InputError("drawTracks: the mask must be mono8 of the image's size, got " + std::to_string(mask.cols) + "x" +
+                       std::to_string(mask.rows) + " " + cv::typeToString(mask.type()));
+    cv::Mat dark;
+    rgb.convertTo(dark, -1, 0.35);
+    dark.copyTo(rgb, mask);
   }
   // A dark outline under every line and dot first, then the colours on top: without it thin
   // green, yellow and ring marks vanish on bright or busy texture.

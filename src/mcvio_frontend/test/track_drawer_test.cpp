@@ -32,6 +32,16 @@ TEST(TrackDrawer, ColoursByLabelInRgbOrder) {
   EXPECT_LT(rim[2], 30);
 }
 
+TEST(TrackDrawer, DarkensTheMask) {
+  const cv::Mat grey(100, 200, CV_8UC1, cv::Scalar(200));
+  cv::Mat mask(100, 200, CV_8UC1, cv::Scalar(0));
+  mask.colRange(0, 50).setTo(255);
+  const cv::Mat out = drawTracks(grey, {}, mask);
+  EXPECT_EQ(out.at<cv::Vec3b>(50, 100), cv::Vec3b(200, 200, 200));
+  EXPECT_EQ(out.at<cv::Vec3b>(50, 10), cv::Vec3b(70, 70, 70));
+  EXPECT_THROW(drawTracks(grey, {}, cv::Mat(100, 100, CV_8UC1, cv::Scalar(0))), InputError);
+}
+
 TEST(TrackDrawer, RejectsOtherImageTypes) {
   EXPECT_THROW(drawTracks(cv::Mat(10, 10, CV_16UC1), {}), InputError);
 }

@@ -60,6 +60,8 @@ class FeatureTracker {
   void reset();
 
   const FrontendOptions& options() const { return options_; }
+  /// Camera `camera`'s mask (255 where no feature is tracked), empty without one; for drawTracks.
+  const cv::Mat& mask(int camera) const { return masks_[static_cast<std::size_t>(camera)]; }
   std::uint32_t framesProcessed() const { return frame_index_; }
 
  private:
