@@ -144,13 +144,9 @@ CameraRenderer::CameraRenderer(const CameraCalibration& calibration, int threads
       const size_t i = static_cast<size_t>(v) * width_ + u;
       const size_t iu = u + 1 < width_ ? i + 1 : i - 1;
       const size_t iv = v + 1 < height_ ? i + width_ : i - width_;
-      // The pixel's solid angle is its area on the normalised plane times cos^3 of its ray's
-      // angle, and the ray is 1/cos longer than the depth the footprint is scaled by: the
-      // footprint per unit of depth is sqrt(area * cos). Without the cos a 160-degree lens's edge
-      // was rendered 1.3 mip levels too blurred, EuRoC's pinhole corners (53 degrees) 0.37.
-      const float ux = ray_x_[iu] - ray_x_[i], uy = ray_y_[iu] - ray_y_[i];
-      const float vx = ray_x_[iv] - ray_x_[i], vy = ray_y_[iv] - ray_y_[i];
-      footprint_[i] = std::sqrt(std::abs(ux * vy - uy * vx) / ray_norm_[i]);
+      const float du = std::hypot(ray_x_[iu] - ray_x_[i], ray_y_[iu] - ray_y_[i]);
+      const float dv = std::hypot(ray_x_[iv] - ray_x_[i], ray_y_[iv] - ray_y_[i]);
+      footprint_[i] = std::sqrt(du * dv);
     }
   tiles_x_ = (width_ + kTileSize - 1) / kTileSize;
   const int tiles_y = (height_ + kTileSize - 1) / kTileSize;

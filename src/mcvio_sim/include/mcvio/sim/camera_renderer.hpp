@@ -57,7 +57,7 @@ class CameraRenderer {
   int threads_;
   int width_, height_;
   std::vector<float> ray_x_, ray_y_;  // undistorted normalised coordinates per pixel
-  std::vector<float> footprint_;      // pixel footprint on a surface per unit of depth, facing the ray
+  std::vector<float> footprint_;      // ray spacing to the next pixel (normalised units)
   std::vector<float> ray_norm_;       // |(x, y, 1)|
   std::vector<float> vignette_;
   std::vector<std::uint8_t> valid_;   // undistortion converged
