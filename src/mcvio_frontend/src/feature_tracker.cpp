@@ -433,7 +433,7 @@ void FeatureTracker::detectNew(const cv::Mat& image, Timestamp t_frame, Tracking
   if (counted >= max_features) return;
   const int w = image.cols, h = image.rows;
   const int radius = static_cast<int>(std::ceil(options_.min_distance_px));
-  if (!masks_[0].empty() && masks_[0].size() == image.size()) {
+  if (!masks_[0].empty()) {  // its size is the calibration's, and so the image's (setCalibration, track)
     masks_[0].copyTo(occupancy_);
   } else {
     occupancy_.create(h, w, CV_8UC1);
