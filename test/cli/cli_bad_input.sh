@@ -38,6 +38,8 @@ printf 'frontend:\n  ransac_iterations: 2000000000\n' > "$tmp/ransac.yaml"
 expect 2 "ransac_iterations' must be in [1, 100000]" -- "$mcvio" run --dataset "$tmp/tiny" --out "$tmp/o" --config "$tmp/ransac.yaml"
 expect 2 "scenario.onset_s' must not be negative" -- "$mcvio" sim --scenario elevator --onset -5 --out "$tmp/sim"
 expect 2 "scenario.coverage' must be in (0, 1]" -- "$mcvio" sim --scenario self_occlusion --coverage nan --out "$tmp/sim"
+expect 2 "--texture-filter: unknown texture filter 'bicubic' (isotropic, anisotropic)" -- "$mcvio" sim --texture-filter bicubic --out "$tmp/sim"
+expect 0 "21 stereo frames (0 in conflict)" -- "$mcvio" sim --duration 1 --texture-filter anisotropic --out "$tmp/tiny_aniso"
 expect 2 "depth_m' must be in [0.1, 100]" -- "$mcvio" inject --depth -1 "$tmp/missing" "$tmp/injected"
 # A config without center_m keeps its default (it used to be required); an onset after the input's end is refused.
 printf 'depth_m: 2.0\nonset_s: 50\n' > "$tmp/inject.yaml"

@@ -72,6 +72,8 @@ expect 2 "tornado" -- "$mcvio" bench --quick --scenarios none,tornado --out "$tm
 expect 2 "sweep_scenarios" -- "$mcvio" bench --quick --duration-sweep 0,10 --sweep-scenarios pedestrian --out "$tmp/x"
 expect 2 "nothing to run" -- "$mcvio" bench --scenarios "" --no-sweep --out "$tmp/x"
 expect 2 "need --level images" -- "$mcvio" bench --quick --real "$tmp" --out "$tmp/x"
+expect 2 "--calib and --texture-filter need --level images" -- "$mcvio" bench --quick --texture-filter anisotropic --out "$tmp/x"
+expect 2 "$tmp/no_rig: no such folder (the rig to render with" -- "$mcvio" bench --level images --scenarios none --calib "$tmp/no_rig" --out "$tmp/x"
 help=$("$mcvio" bench --help)
 for o in --out --level --modes --scenarios --seeds --duration-sweep --no-sweep --sweep-scenarios --sequence-duration \
          --onset --conflict-duration --sweep-tail --rpe-delta-s --jobs --quick --oracle-track-labels --no-plots --semi-real \

@@ -1,5 +1,6 @@
 // Rendering speed of the simulator: stereo pairs per second for each scenario's world, with the
-// default options (EuRoC 752x480 stereo, 1024-texel textures, 2 render threads).
+// default options (EuRoC 752x480 stereo, 1024-texel textures, 2 render threads), with either
+// texture filter (third argument: 0 isotropic, 1 anisotropic).
 #include <benchmark/benchmark.h>
 
 #include "mcvio/sim/feature_simulator.hpp"
@@ -11,6 +12,7 @@ void BM_RenderStereoPair(benchmark::State& state) {
   mcvio::sim::SimulatorOptions o;
   o.scenario.kind = static_cast<mcvio::sim::ScenarioKind>(state.range(0));
   o.threads = static_cast<int>(state.range(1));
+  o.texture_filter = static_cast<mcvio::sim::TextureFilter>(state.range(2));
   const mcvio::sim::Simulator sim(o);
   std::size_t k = 0;
   for (auto _ : state) {
@@ -19,11 +21,12 @@ void BM_RenderStereoPair(benchmark::State& state) {
     k = (k + 37) % sim.frameTimes().size();  // spread over the whole trajectory
   }
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations()));
-  state.SetLabel(std::string(mcvio::sim::toString(o.scenario.kind)) + ", items = stereo pairs");
+  state.SetLabel(std::string(mcvio::sim::toString(o.scenario.kind)) + ", " + mcvio::sim::toString(o.texture_filter) +
+                 ", items = stereo pairs");
 }
 BENCHMARK(BM_RenderStereoPair)
-    ->ArgsProduct({{0, 1, 2, 3, 4, 5}, {2}})
-    ->Args({0, 1})
+    ->ArgsProduct({{0, 1, 2, 3, 4, 5}, {2}, {0, 1}})
+    ->Args({0, 1, 0})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

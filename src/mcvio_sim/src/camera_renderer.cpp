@@ -6,6 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "mcvio/core/input_error.hpp"
 #include "parallel_for.hpp"
 
 namespace mcvio::sim {
@@ -52,6 +53,54 @@ inline float fastLog2(float x) {
   float m;
   std::memcpy(&m, &bits, sizeof m);
   return e + (-0.34484843f * m + 2.02466578f) * m - 1.67487759f;
+}
+
+/// The pixel's footprint on the quad's plane in texels: the hit P = t m of the ray m = (x, y, 1)
+/// with n.P = d moves by dP = t (dm - m (n.dm) / (n.m)) when m moves by one pixel's dm. Averages
+/// samples along the footprint ellipse's major axis at its minor axis's mip level.
+float sampleAnisotropic(const CameraQuad& q, float rx, float ry, float t, float n_m,
+                        const std::array<float, 4>& dm, float s, float tt, bool mip_mapping) {
+  if (!mip_mapping) return q.texture->sample(s, tt, 0.0f);
+  const float eu_m = q.eu.x() * rx + q.eu.y() * ry + q.eu.z();
+  const float ev_m = q.ev.x() * rx + q.ev.y() * ry + q.ev.z();
+  const float k = t * q.inv_texel, inv_nm = 1.0f / n_m;
+  auto texels = [&](float dx, float dy, float* ds, float* dt) {
+    const float n_dm = (q.n.x() * dx + q.n.y() * dy) * inv_nm;
+    *ds = k * (q.eu.x() * dx + q.eu.y() * dy - eu_m * n_dm);
+    *dt = k * (q.ev.x() * dx + q.ev.y() * dy - ev_m * n_dm);
+  };
+  float su, tu, sv, tv;
+  texels(dm[0], dm[1], &su, &tu);
+  texels(dm[2], dm[3], &sv, &tv);
+  // Axes of the ellipse J J^T, J = [su sv; tu tv] (texels per pixel along u and v).
+  const float a = su * su + sv * sv, b = su * tu + sv * tv, c = tu * tu + tv * tv;
+  const float root = std::sqrt((a - c) * (a - c) + 4.0f * b * b);
+  const float major_sq = std::min(0.5f * (a + c + root), 1e12f);
+  const float major = std::sqrt(major_sq);
+  const float minor = std::min(std::abs(su * tv - sv * tu) / std::max(major, 1e-12f), major);
+  constexpr int kMaxSamples = 8;
+  // A nearly round footprint takes one sample: its level blurs the minor axis by at most 1.3x.
+  const int n = std::clamp(static_cast<int>(std::ceil(major / std::max(minor, 1e-6f) - 0.3f)), 1, kMaxSamples);
+  const float width = std::max(minor, major / static_cast<float>(n));
+  const float lod = width > 1.0f ? fastLog2(width) : 0.0f;
+  if (n == 1) return q.texture->sample(s, tt, lod);
+  // Major axis direction: eigenvector of J J^T for its larger eigenvalue.
+  float ex = b, ey = major_sq - a;
+  if (a >= c) {
+    ex = major_sq - c;
+    ey = b;
+  }
+  const float len = std::sqrt(ex * ex + ey * ey);
+  if (!(len > 0.0f)) return q.texture->sample(s, tt, lod);
+  const float step = major / (len * static_cast<float>(n));
+  ex *= step;
+  ey *= step;
+  float sum = 0.0f;
+  for (int j = 0; j < n; ++j) {
+    const float o = static_cast<float>(j) - 0.5f * static_cast<float>(n - 1);
+    sum += q.texture->sample(s + o * ex, tt + o * ey, lod);
+  }
+  return sum / static_cast<float>(n);
 }
 
 /// True unless one edge of the convex polygon separates it from the rectangle.
@@ -114,6 +163,16 @@ bool clipAndBound(const Eigen::Vector3f (&corners)[4], CameraQuad* quad, float* 
 
 }  // namespace
 
+const char* toString(TextureFilter filter) {
+  return filter == TextureFilter::kAnisotropic ? "anisotropic" : "isotropic";
+}
+
+TextureFilter textureFilterFromString(const std::string& name, const std::string& key) {
+  for (TextureFilter f : {TextureFilter::kIsotropic, TextureFilter::kAnisotropic})
+    if (name == toString(f)) return f;
+  throw InputError(key + ": unknown texture filter '" + name + "' (isotropic, anisotropic)");
+}
+
 CameraRenderer::CameraRenderer(const CameraCalibration& calibration, int threads)
     : calibration_(calibration),
       threads_(std::max(1, threads)),
@@ -123,6 +182,7 @@ CameraRenderer::CameraRenderer(const CameraCalibration& calibration, int threads
   ray_x_.resize(n);
   ray_y_.resize(n);
   footprint_.resize(n);
+  ray_differential_.resize(n);
   ray_norm_.resize(n);
   vignette_.resize(n);
   valid_.resize(n);
@@ -147,6 +207,17 @@ CameraRenderer::CameraRenderer(const CameraCalibration& calibration, int threads
       const float du = std::hypot(ray_x_[iu] - ray_x_[i], ray_y_[iu] - ray_y_[i]);
       const float dv = std::hypot(ray_x_[iv] - ray_x_[i], ray_y_[iv] - ray_y_[i]);
       footprint_[i] = std::sqrt(du * dv);
+      // Central differences where both neighbours have a ray, one-sided at a lens's rim.
+      auto differential = [&](int step, int pos, int extent, float* dx, float* dy) {
+        const bool back = pos > 0 && valid_[i - step], fwd = pos + 1 < extent && valid_[i + step];
+        const size_t a = fwd ? i + step : i, b = back ? i - step : i;
+        const float scale = fwd && back ? 0.5f : 1.0f;
+        *dx = scale * (ray_x_[a] - ray_x_[b]);
+        *dy = scale * (ray_y_[a] - ray_y_[b]);
+      };
+      std::array<float, 4>& d = ray_differential_[i];
+      differential(1, u, width_, &d[0], &d[1]);
+      differential(width_, v, height_, &d[2], &d[3]);
     }
   tiles_x_ = (width_ + kTileSize - 1) / kTileSize;
   const int tiles_y = (height_ + kTileSize - 1) / kTileSize;
@@ -284,7 +355,11 @@ void CameraRenderer::render(const Scene& scene, Timestamp t, const Eigen::Isomet
             ++counts[best->body];
           }
           float radiance;
-          if (best) {
+          if (best && settings.texture_filter == TextureFilter::kAnisotropic) {
+            radiance = best->brightness * sampleAnisotropic(*best, rx, ry, best_t, bden, ray_differential_[i],
+                                                            bu * best->inv_texel + best->off_u,
+                                                            bv * best->inv_texel + best->off_v, settings.mip_mapping);
+          } else if (best) {
             // Pixel footprint on the surface, foreshortened by the viewing angle (geometric
             // mean of the two axes), in texels: that picks the mip level.
             // log2 of the squared footprint halves to the level without a square root.

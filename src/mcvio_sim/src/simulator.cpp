@@ -138,6 +138,7 @@ RenderResult Simulator::renderCamera(std::size_t index, int camera) const {
   // Slow exposure/gain drift shared by both cameras, as an auto-exposure would produce.
   settings.gain = 1.0 + options_.gain_drift * (0.7 * std::sin(w * s) + 0.3 * std::sin(2.7 * w * s + 1.0));
   settings.noise_sigma = options_.pixel_noise_sigma;
+  settings.texture_filter = options_.texture_filter;
   settings.noise_seed = mixSeed(options_.seed, 2 * index + 100 + static_cast<std::uint64_t>(camera));
   RenderResult r;
   renderer(camera).render(world_.scene, t, bodyPose(t), settings, &r);

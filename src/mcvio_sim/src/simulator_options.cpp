@@ -51,6 +51,9 @@ SimulatorOptions SimulatorOptions::fromYaml(const YAML::Node& node) {
   img.get("gain_drift", &o.gain_drift);
   img.get("gain_period_s", &o.gain_period_s);
   img.get("png_compression", &o.png_compression);
+  std::string filter = toString(o.texture_filter);
+  img.get("texture_filter", &filter);
+  o.texture_filter = textureFilterFromString(filter, "image.texture_filter");
   img.rejectUnknown();
 
   YamlFields semi(f.child("semi_real"), "semi_real.");

@@ -155,14 +155,16 @@ TEST(Simulator, AnExistingOutputIsNotOverwrittenAndAFailingCallbackStopsTheRun) 
 TEST(SimulatorOptions, YamlKeysAreReadAndMistakesAreNamed) {
   const SimulatorOptions o = SimulatorOptions::fromYaml(YAML::Load(
       "seed: 7\nscenario: {kind: vehicle, onset_s: 5, duration_s: 10, coverage: 0.5}\n"
-      "imu: {noise: false, initial_gyro_bias: [0.01, 0, 0]}\nimage: {noise_sigma: 1.5}\n"));
+      "imu: {noise: false, initial_gyro_bias: [0.01, 0, 0]}\nimage: {noise_sigma: 1.5, texture_filter: anisotropic}\n"));
   EXPECT_EQ(o.seed, 7u);
   EXPECT_EQ(o.scenario.kind, ScenarioKind::kVehicle);
   EXPECT_EQ(o.scenario.coverage, 0.5);
   EXPECT_FALSE(o.imu_noise_enabled);
   EXPECT_EQ(o.initial_gyro_bias.x(), 0.01);
   EXPECT_EQ(o.pixel_noise_sigma, 1.5);
+  EXPECT_EQ(o.texture_filter, TextureFilter::kAnisotropic);
   EXPECT_EQ(o.duration_s, 60.0);
+  EXPECT_EQ(SimulatorOptions::fromYaml(YAML::Load("seed: 2")).texture_filter, TextureFilter::kIsotropic);
 
   auto message = [](const std::string& yaml) {
     try {
@@ -175,6 +177,8 @@ TEST(SimulatorOptions, YamlKeysAreReadAndMistakesAreNamed) {
   EXPECT_NE(message("scenario: {kind: submarine}").find("scenario.kind"), std::string::npos);
   EXPECT_NE(message("scenario: {coverage: 1.5}").find("scenario.coverage"), std::string::npos);
   EXPECT_NE(message("image: {noise_sigmaa: 1}").find("image.noise_sigmaa"), std::string::npos);
+  EXPECT_NE(message("image: {texture_filter: trilinear}").find("image.texture_filter: unknown texture filter 'trilinear'"),
+            std::string::npos);
   EXPECT_NE(message("duration_s: abc").find("duration_s"), std::string::npos);
   EXPECT_NE(message("imu: {initial_gyro_bias: [1, 2]}").find("imu.initial_gyro_bias"), std::string::npos);
   EXPECT_NE(message("duration_s: 10\nscenario: {kind: elevator, onset_s: 8, duration_s: 5}").find("scenario.duration_s"),

@@ -23,7 +23,7 @@ namespace ev = mcvio::evaluation;
 
 void addBenchCommand(CLI::App& app, CommandContext& ctx) {
   struct Options {
-    std::string out, level = "features", config, semi_real;
+    std::string out, level = "features", config, semi_real, calib, texture_filter;
     double overlay_onset_s = 5.0, overlay_duration_s = 4.0;
     std::vector<std::string> modes, scenarios, sweep_scenarios, real;
     std::vector<std::uint64_t> seeds;
@@ -87,6 +87,12 @@ void addBenchCommand(CLI::App& app, CommandContext& ctx) {
       ->capture_default_str();
   cmd->add_option("--overlay-duration", opt->overlay_duration_s, "images level: how long the overlay is seen [s]")
       ->capture_default_str();
+  cmd->add_option("--calib", opt->calib,
+                  "images level: render the scenarios with this rig, a folder with cam0/cam1/imu0 sensor.yaml as for\n"
+                  "`mcvio sim --calib` (default: EuRoC V1_01's), e.g. --calib /data/fisheye_rig");
+  cmd->add_option("--texture-filter", opt->texture_filter,
+                  "images level: isotropic (default) or anisotropic texture filtering of the rendered images\n"
+                  "(`mcvio sim --help`; anisotropic for wide lenses), e.g. --texture-filter anisotropic");
   cmd->add_option("--config", opt->config,
                   "images level: VioPipelineOptions YAML for `mcvio run` (default: the shipped config/vio_pipeline.yaml,\n"
                   "built in); feature level: its `estimator:` section (default: the library defaults), with\n"
@@ -150,12 +156,20 @@ void addBenchCommand(CLI::App& app, CommandContext& ctx) {
         suite.plan().size() + (opt->level == "images" ? (opt->semi_real.empty() ? 0 : 1) + opt->real.size() : 0);
     if (opt->level != "images" && (!opt->semi_real.empty() || !opt->real.empty()))
       throw CommandExit{2, "bench: --semi-real and --real need --level images"};
+    if (opt->level != "images" && (!opt->calib.empty() || !opt->texture_filter.empty()))
+      throw CommandExit{2, "bench: --calib and --texture-filter need --level images"};
+    const sim::TextureFilter texture_filter = opt->texture_filter.empty()
+                                                  ? sim::TextureFilter::kIsotropic
+                                                  : sim::textureFilterFromString(opt->texture_filter, "--texture-filter");
     if (sequences == 0) throw CommandExit{2, "bench: nothing to run (no scenarios, no sweep, no recorded sequences)"};
     if (!opt->quiet)
       std::cerr << "mcvio bench (" << (opt->level == "images" ? "image" : "feature") << " level): " << sequences << " sequences x " << o.modes.size()
                 << " modes = " << sequences * o.modes.size() << " runs"
                 << (opt->level == "images" && !opt->semi_real.empty() ? " + reference on the overlay's clean base" : "")
                 << (opt->level == "features" ? ", " + std::to_string(o.jobs) + " sequence(s) at a time" : std::string())
+                << (opt->level == "images" ? std::string(", rig ") + (opt->calib.empty() ? "EuRoC V1_01" : opt->calib) +
+                                                 ", texture filter " + sim::toString(texture_filter)
+                                           : std::string())
                 << "\n";
     const auto progress = [&](std::size_t done, std::size_t total, const std::string& line) {
       if (!opt->quiet) std::cerr << "[" << done << "/" << total << "] " << line << std::endl;
@@ -170,6 +184,8 @@ void addBenchCommand(CLI::App& app, CommandContext& ctx) {
       io.overlay_onset_s = opt->overlay_onset_s;
       io.overlay_duration_s = opt->overlay_duration_s;
       io.real_dirs = opt->real;
+      io.rig_calibration_dir = opt->calib;
+      io.texture_filter = texture_filter;
       result = ImageLevelBenchmark(io).run(progress);
     } else {
       result = suite.run(progress);

@@ -93,6 +93,8 @@ ImageLevelBenchmark::ImageLevelBenchmark(Options options) : options_(std::move(o
   for (const auto& dir : options_.real_dirs)
     if (!fs::is_regular_file(mav0Of(dir) / "state_groundtruth_estimate0/data.csv"))
       throw InputError(dir + ": no mav0/state_groundtruth_estimate0/data.csv (a real sequence needs its ground truth)");
+  if (!options_.rig_calibration_dir.empty() && !fs::is_directory(options_.rig_calibration_dir))
+    throw InputError(options_.rig_calibration_dir + ": no such folder (the rig to render with: cam0/, cam1/, imu0/ sensor.yaml)");
   if (!options_.semi_real_dir.empty()) {
     const fs::path m = mav0Of(options_.semi_real_dir);
     for (const char* f : {"state_groundtruth_estimate0/data.csv", "imu0/data.csv"})
@@ -144,6 +146,7 @@ ev::BenchmarkResult ImageLevelBenchmark::run(const ev::BenchmarkSuite::Progress&
     sim.output_dir = data.string();
     sim.overwrite = true;
     sim.seed = sequence.seed;
+    sim.texture_filter = options_.texture_filter;
     if (real) {
       // Recorded: nothing to render.
     } else if (sequence.scenario == "injected_overlay") {
@@ -164,6 +167,7 @@ ev::BenchmarkResult ImageLevelBenchmark::run(const ev::BenchmarkSuite::Progress&
       sim::runInjection(inject);
     } else {
       sim.duration_s = sequence.duration_s;
+      sim.calibration_dir = options_.rig_calibration_dir;
       sim.scenario.kind = sim::scenarioKindFromString(sequence.scenario);
       sim.scenario.onset_s = sequence.onset_s;
       sim.scenario.duration_s = sequence.conflict_duration_s;

@@ -4,6 +4,7 @@
 
 #include "mcvio/evaluation/benchmark_result.hpp"
 #include "mcvio/evaluation/benchmark_suite.hpp"
+#include "mcvio/sim/camera_renderer.hpp"
 
 namespace mcvio::cli {
 
@@ -30,6 +31,10 @@ class ImageLevelBenchmark {
     /// Real EuRoC folders run as clean sequences (scenario "none"): every frame is labelled
     /// conflict-free unless the folder has mav0/conflict_labels.csv.
     std::vector<std::string> real_dirs;
+    /// Rig the scenarios are rendered with (a folder with cam0/cam1/imu0 sensor.yaml, as `mcvio
+    /// sim --calib`); empty: EuRoC V1_01's. The semi-real overlay keeps its recording's rig.
+    std::string rig_calibration_dir;
+    sim::TextureFilter texture_filter = sim::TextureFilter::kIsotropic;  ///< of every rendered sequence
   };
 
   explicit ImageLevelBenchmark(Options options);

@@ -10,7 +10,7 @@ namespace mcvio::cli {
 
 void addSimCommand(CLI::App& app, CommandContext&) {
   struct Options {
-    std::string config, scenario = "none", out, trajectory, imu, calib;
+    std::string config, scenario = "none", out, trajectory, imu, calib, texture_filter;
     double duration = 60;
     // Unset unless given, so that a given value (negative, NaN) reaches validate() and is rejected.
     std::optional<double> onset, scenario_duration, coverage;
@@ -44,6 +44,10 @@ void addSimCommand(CLI::App& app, CommandContext&) {
   cmd->add_option("--trajectory", opt->trajectory, "semi-real: EuRoC ground-truth CSV to render along");
   cmd->add_option("--imu", opt->imu, "semi-real: real IMU CSV to keep");
   cmd->add_option("--calib", opt->calib, "folder with cam0/cam1/imu0 sensor.yaml (default: EuRoC V1_01)");
+  cmd->add_option("--texture-filter", opt->texture_filter,
+                  "isotropic (default: one mip level per pixel; overstates the blur towards a wide lens's edge)\n"
+                  "or anisotropic (the pixel's exact footprint, up to 8 samples along its long axis; for\n"
+                  "fisheye rigs), e.g. --calib /data/fisheye_rig --texture-filter anisotropic");
   cmd->callback([opt] {
     sim::SimulatorOptions o = opt->config.empty() ? sim::SimulatorOptions{} : sim::SimulatorOptions::fromYamlFile(opt->config);
     o.output_dir = opt->out;
@@ -58,6 +62,7 @@ void addSimCommand(CLI::App& app, CommandContext&) {
     if (!opt->trajectory.empty()) o.groundtruth_csv = opt->trajectory;
     if (!opt->imu.empty()) o.imu_csv = opt->imu;
     if (!opt->calib.empty()) o.calibration_dir = opt->calib;
+    if (!opt->texture_filter.empty()) o.texture_filter = sim::textureFilterFromString(opt->texture_filter, "--texture-filter");
     o.validate();
     sim::Simulator simulator(o);
     ProgressBar bar("sim", simulator.frameTimes().size());
