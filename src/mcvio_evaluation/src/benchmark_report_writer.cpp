@@ -167,6 +167,10 @@ std::string BenchmarkReportWriter::toJson(const BenchmarkResult& result) {
                     {"ride_displacement_tolerance_percent", o.targets.ride_displacement_tolerance_percent},
                     {"secondary_motion_tolerance_percent", o.targets.secondary_motion_tolerance_percent},
                     {"max_added_cost_percent", o.targets.max_added_cost_percent}}}};
+  if (result.level == "images") {
+    j["options"]["render_rig"] = result.render_rig.empty() ? "EuRoC V1_01" : result.render_rig;
+    j["options"]["texture_filter"] = result.texture_filter;
+  }
   json targets = json::array();
   for (const auto& t : result.targets)
     targets.push_back({{"target", t.target}, {"mode", t.mode}, {"passed", t.passed}, {"total", t.total},
@@ -251,7 +255,10 @@ std::string BenchmarkReportWriter::toMarkdown(const BenchmarkResult& result) {
   md << "# MC-VIO benchmark (" << (result.level == "images" ? "image" : "feature") << " level)\n\n";
   if (result.level == "images")
     md << "Rendered stereo images (mcvio_sim; overlay_semi_real: rendered along a recorded trajectory with its real IMU, "
-          "overlay injected) and recorded sequences (real_*) -> the whole offline pipeline (frontend + estimator) per mode.";
+          "overlay injected) and recorded sequences (real_*) -> the whole offline pipeline (frontend + estimator) per mode. "
+          "Rendered with the rig of "
+       << (result.render_rig.empty() ? std::string("EuRoC V1_01") : "`" + result.render_rig + "`") << ", "
+       << result.texture_filter << " texture filter.";
   else
     md << "FeatureSimulator tracks (pixel noise " << fmt("%g", o.features.pixel_noise_sigma) << " px, track labels "
        << (o.oracle_track_labels ? "from the ground truth (oracle)" : "cleared: no oracle") << ") -> SlidingWindowEstimator"

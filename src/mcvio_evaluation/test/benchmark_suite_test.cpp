@@ -361,5 +361,16 @@ TEST(BenchmarkSuite, ShortElevatorRunEndToEnd) {
   EXPECT_NE(md_floor.find(" | 50.0 | imu | ", floor_at), std::string::npos) << md_floor.substr(floor_at);
   EXPECT_DOUBLE_EQ(nlohmann::json::parse(BenchmarkReportWriter::toJson(with_floor))["sequences"][0]["clean_floor_ate_posyaw_m"].get<double>(),
                    with_floor.sequences[0].clean_floor_ate_m);
+  // An image-level report says which rig and texture filter rendered it; a feature-level one does not.
+  EXPECT_FALSE(nlohmann::json::parse(BenchmarkReportWriter::toJson(result))["options"].contains("texture_filter"));
+  BenchmarkResult rendered = result;
+  rendered.level = "images";
+  rendered.render_rig = "/data/fisheye_rig";
+  rendered.texture_filter = "anisotropic";
+  const auto rj = nlohmann::json::parse(BenchmarkReportWriter::toJson(rendered));
+  EXPECT_EQ(rj["options"]["render_rig"], "/data/fisheye_rig");
+  EXPECT_EQ(rj["options"]["texture_filter"], "anisotropic");
+  EXPECT_NE(BenchmarkReportWriter::toMarkdown(rendered).find("Rendered with the rig of `/data/fisheye_rig`, anisotropic texture filter."),
+            std::string::npos);
   fs::remove_all(dir);
 }

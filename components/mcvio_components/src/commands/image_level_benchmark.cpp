@@ -136,6 +136,8 @@ ev::BenchmarkResult ImageLevelBenchmark::run(const ev::BenchmarkSuite::Progress&
 
   ev::BenchmarkResult result;
   result.level = "images";
+  result.render_rig = options_.rig_calibration_dir;
+  result.texture_filter = sim::toString(options_.texture_filter);
   result.options = so;
   for (std::size_t index = 0; index < plan.size(); ++index) {
     auto& sequence = plan[index];

@@ -140,6 +140,10 @@ struct BenchmarkTargetSummary {
 struct BenchmarkResult {
   std::string level = "features";  ///< "features" or "images"
   BenchmarkOptions options;
+  /// Image level: the rig folder the scenarios were rendered with (empty: EuRoC V1_01's) and the
+  /// renderer's texture filter (sim::TextureFilter's name).
+  std::string render_rig;
+  std::string texture_filter = "isotropic";
   std::vector<BenchmarkSequenceResult> sequences;  ///< scenario sequences, then the sweep
   std::vector<BenchmarkTargetSummary> targets;
   double wall_s = 0;
