@@ -43,6 +43,17 @@ TexturedQuad facingQuad(const Vector3d& centre_w, const Eigen::Matrix3d& R_WC, d
   return q;
 }
 
+/// Mean absolute change of the image between the device at the identity and at `moved`.
+double meanChange(const CameraRenderer& renderer, const Scene& scene, const RenderSettings& settings,
+                  const Eigen::Isometry3d& moved) {
+  RenderResult a, b;
+  renderer.render(scene, 0, Eigen::Isometry3d::Identity(), settings, &a);
+  renderer.render(scene, 0, moved, settings, &b);
+  cv::Mat diff;
+  cv::absdiff(a.image, b.image, diff);
+  return cv::mean(diff)[0];
+}
+
 Vector2d intensityCentroid(const cv::Mat& img, int threshold) {
   double sw = 0, su = 0, sv = 0;
   for (int v = 0; v < img.rows; ++v)
@@ -157,12 +168,7 @@ TEST(CameraRenderer, AFarFineTextureDoesNotFlickerUnderSubPixelMotion) {
     settings.vignetting = false;
     settings.lens_blur = 0.0;  // judge the texture filtering alone
     settings.mip_mapping = mip;
-    RenderResult a, b;
-    renderer.render(scene, 0, Eigen::Isometry3d::Identity(), settings, &a);
-    renderer.render(scene, 0, moved, settings, &b);
-    cv::Mat diff;
-    cv::absdiff(a.image, b.image, diff);
-    return cv::mean(diff)[0];
+    return meanChange(renderer, scene, settings, moved);
   };
   const double with_mip = flicker(true), without = flicker(false);
   std::cout << "mean frame-to-frame change: " << with_mip << " with mip-mapping, " << without << " without\n";
@@ -254,12 +260,7 @@ TEST(CameraRenderer, TheAnisotropicFilterAveragesWhatThePixelCovers) {
   auto flicker = [&](TextureFilter filter, bool mip) {
     settings.texture_filter = filter;
     settings.mip_mapping = mip;
-    RenderResult a, b;
-    renderer.render(scene, 0, Eigen::Isometry3d::Identity(), settings, &a);
-    renderer.render(scene, 0, moved, settings, &b);
-    cv::Mat diff;
-    cv::absdiff(a.image, b.image, diff);
-    return cv::mean(diff)[0];
+    return meanChange(renderer, scene, settings, moved);
   };
   const double f_iso = flicker(TextureFilter::kIsotropic, true), f_aniso = flicker(TextureFilter::kAnisotropic, true);
   const double f_none = flicker(TextureFilter::kIsotropic, false);

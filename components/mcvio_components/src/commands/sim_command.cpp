@@ -46,8 +46,9 @@ void addSimCommand(CLI::App& app, CommandContext&) {
   cmd->add_option("--calib", opt->calib, "folder with cam0/cam1/imu0 sensor.yaml (default: EuRoC V1_01)");
   cmd->add_option("--texture-filter", opt->texture_filter,
                   "isotropic (default: one mip level per pixel; overstates the blur towards a wide lens's edge)\n"
-                  "or anisotropic (the pixel's exact footprint, up to 8 samples along its long axis; for\n"
-                  "fisheye rigs), e.g. --calib /data/fisheye_rig --texture-filter anisotropic");
+                  "or anisotropic (the pixel's exact footprint, up to 8 samples along its long axis: sharper\n"
+                  "and truer, most of all through fisheye lenses; renders about 1.8x slower),\n"
+                  "e.g. --calib /data/fisheye_rig --texture-filter anisotropic");
   cmd->callback([opt] {
     sim::SimulatorOptions o = opt->config.empty() ? sim::SimulatorOptions{} : sim::SimulatorOptions::fromYamlFile(opt->config);
     o.output_dir = opt->out;
