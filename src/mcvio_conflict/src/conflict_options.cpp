@@ -43,6 +43,8 @@ void ConflictOptions::validate() const {
   require(stereo_sigma_px > 0, "stereo_sigma_px", "must be > 0", stereo_sigma_px);
   require(velocity_sigma_mps > 0, "velocity_sigma_mps", "must be > 0", velocity_sigma_mps);
   require(attitude_sigma_rad > 0, "attitude_sigma_rad", "must be > 0", attitude_sigma_rad);
+  require(landmark_attitude_sigma_rad >= 0, "landmark_attitude_sigma_rad", "must be >= 0 (0: attitude_sigma_rad)",
+          landmark_attitude_sigma_rad);
   require(accel_bias_sigma > 0, "accel_bias_sigma", "must be > 0", accel_bias_sigma);
   require(gyro_bias_sigma > 0, "gyro_bias_sigma", "must be > 0", gyro_bias_sigma);
   require(propagated_chi2_threshold > 0, "propagated_chi2_threshold", "must be > 0", propagated_chi2_threshold);
@@ -149,6 +151,7 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
     f.get("stereo_sigma_px", &o.stereo_sigma_px);
     f.get("velocity_sigma_mps", &o.velocity_sigma_mps);
     f.get("attitude_sigma_rad", &o.attitude_sigma_rad);
+    f.get("landmark_attitude_sigma_rad", &o.landmark_attitude_sigma_rad);
     f.get("accel_bias_sigma", &o.accel_bias_sigma);
     f.get("gyro_bias_sigma", &o.gyro_bias_sigma);
     f.get("propagated_chi2_threshold", &o.propagated_chi2_threshold);

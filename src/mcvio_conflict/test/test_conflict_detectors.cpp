@@ -548,6 +548,9 @@ TEST(ConflictOptions, YamlErrorsNameTheKey) {
   EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("thin_view_bias_hold_landmarks: 0")).thin_view_bias_hold_landmarks, 0);
   EXPECT_FALSE(ConflictOptions::fromYaml(YAML::Load("split_bias_hold: false")).split_bias_hold);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("split_bias_hold: 2")), InputError);
+  EXPECT_EQ(ConflictOptions::fromYaml(YAML::Load("landmark_attitude_sigma_rad: 0.004")).landmark_attitude_sigma_rad, 0.004);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("landmark_attitude_sigma_rad: -0.001")), InputError);
+  EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("landmark_attitude_sigma_rad: .nan")), InputError);
   EXPECT_TRUE(ConflictOptions{}.frontend_conflict_keeps_history);
   EXPECT_FALSE(ConflictOptions::fromYaml(YAML::Load("frontend_conflict_keeps_history: false")).frontend_conflict_keeps_history);
   EXPECT_THROW(ConflictOptions::fromYaml(YAML::Load("frontend_conflict_keeps_history: maybe")), InputError);

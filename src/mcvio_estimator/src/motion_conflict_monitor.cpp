@@ -174,7 +174,8 @@ std::vector<conflict::TrackedPoint> MotionConflictMonitor::collectPoints(const E
 }
 
 bool MotionConflictMonitor::imuMotion(const Entry& r, Timestamp t, const ImuBuffer& imu,
-                                      conflict::RelativeMotion* motion, State* propagated) const {
+                                      conflict::RelativeMotion* motion, State* propagated,
+                                      conflict::RelativeMotion* landmark_motion) const {
   std::vector<ImuSample> samples;
   if (!imu.extract(r.t, t, &samples) || samples.size() < 2) return false;
   const ImuBias bias = referenceBias(r);
@@ -202,6 +203,11 @@ bool MotionConflictMonitor::imuMotion(const Entry& r, Timestamp t, const ImuBuff
   S.block<3, 3>(0, 3) += sbg2 * pre.dR_dbg() * pre.dP_dbg().transpose();
   S.block<3, 3>(3, 0) += sbg2 * pre.dP_dbg() * pre.dR_dbg().transpose();
   motion->covariance = S;
+  if (landmark_motion != nullptr) {
+    *landmark_motion = *motion;
+    const double sl = options_.landmark_attitude_sigma_rad > 0 ? options_.landmark_attitude_sigma_rad : sa;
+    landmark_motion->covariance.block<3, 3>(3, 3) += (sl * sl - sa * sa) * J_att * J_att.transpose();
+  }
   pre.predict(r.state.p, r.state.q, r.state.v, bias, gravity_, &propagated->p, &propagated->q, &propagated->v);
   propagated->bias = bias;
   return motion->t.allFinite() && motion->R.allFinite();
@@ -319,9 +325,9 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
       Eigen::Vector3d v_vis;
       if (visionVelocity(r_index, span, imu, &v_vis)) r.state.v = v_vis;
     }
-    conflict::RelativeMotion imu_rel;
+    conflict::RelativeMotion imu_rel, imu_rel_landmarks;
     State propagated;
-    if (imuMotion(r, t, imu, &imu_rel, &propagated)) {
+    if (imuMotion(r, t, imu, &imu_rel, &propagated, &imu_rel_landmarks)) {
       const auto pts = collectPoints(r, cam0, pending_);
       std::vector<conflict::TrackedPoint> still, moving;
       for (const auto& p : pts) (classifier_.isMoving(p.track_id) ? moving : still).push_back(p);
@@ -341,7 +347,9 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
         whole = prop.fired;
         score = std::max(score, prop.chi2 / options_.propagated_chi2_threshold);
       }
-      auto lm = landmark_detector_.test(pts, imu_rel);
+      // ConflictOptions::landmark_attitude_sigma_rad, except inside an IMU-dominated interval,
+      // where the held biases let the attitude drift.
+      auto lm = landmark_detector_.test(pts, imu_dominated_ ? imu_rel : imu_rel_landmarks);
       // Region-split detector (ConflictOptions::split_chi2_threshold): two sides of the image
       // that move differently. Their static side's motion is a sharper reference than the IMU
       // prediction; a group it finds is a partial conflict (never whole-view: by construction

@@ -1520,3 +1520,29 @@ TEST(MotionConflictMonitor, TracksBornTheFrameBeforeTheSuspicionWaitToo) {
   EXPECT_GT(before, 10);
   EXPECT_GT(earlier, 10);
 }
+
+// A slow object's drift over the horizon is about what the reference state's attitude uncertainty
+// spreads every predicted pixel by (through gravity): at the propagated test's 10 mrad its tracks
+// pass the landmark test, at the landmark test's own 4 mrad they fail it; every track passes both
+// before it moves. The region split is off, so only the IMU-referenced tests judge.
+TEST(MotionConflictMonitor, TheLandmarkTestsOwnAttitudeSigmaFindsASlowObject) {
+  const double speed = 0.1;  // 5 cm over the horizon, 3 px at 7 m
+  auto runWith = [&](double landmark_attitude_sigma) {
+    conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kReference);
+    o.split_chi2_threshold = 0;
+    o.observation_sigma_px = 0.4;  // the shipped pipeline's
+    o.landmark_attitude_sigma_rad = landmark_attitude_sigma;
+    return run(slowObjectScene(speed), o, kDriftFrames);
+  };
+  const auto shared = runWith(0.0);  // 0: the propagated test's attitude_sigma_rad (10 mrad)
+  const auto own = runWith(0.004);
+  for (int k = 0; k < kDriftFrames; ++k) {
+    EXPECT_EQ(shared[k].decision.report.landmarks_inconsistent, 0) << "frame " << k;
+    if (k < kDriftFrame) {
+      EXPECT_EQ(own[k].decision.report.landmarks_inconsistent, 0) << "frame " << k;
+    }
+  }
+  // Of the object's 60 tracks (80 static beside them).
+  EXPECT_GE(own.back().decision.report.landmarks_inconsistent, 30);
+  EXPECT_LE(own.back().decision.report.landmarks_inconsistent, 60);
+}

@@ -35,6 +35,10 @@ struct ConflictOptions {
   /// IMU prediction over the horizon.
   double velocity_sigma_mps = 0.015;
   double attitude_sigma_rad = 0.01;
+  /// The attitude uncertainty the landmark detector's prediction carries (0: attitude_sigma_rad).
+  /// Through gravity it spreads every landmark's predicted pixel by the same few pixels over the
+  /// horizon; a slow object's tracks drift by no more than that.
+  double landmark_attitude_sigma_rad = 0.0;
   double accel_bias_sigma = 0.02;      ///< [m/s^2]
   double gyro_bias_sigma = 0.002;      ///< [rad/s]
   /// Propagated-state detector: 6-dof chi-square threshold on IMU-vs-vision relative motion.

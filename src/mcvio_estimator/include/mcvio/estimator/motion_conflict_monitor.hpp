@@ -143,9 +143,11 @@ class MotionConflictMonitor {
   std::vector<conflict::TrackedPoint> collectPoints(const Entry& r, const ObservationMap& cam0,
                                                     const Entry& k) const;
   /// IMU-predicted motion from r to t, integrated with the reference bias (see
-  /// ConflictOptions::bias_reference_lag_frames); `propagated` is r's state moved to t.
+  /// ConflictOptions::bias_reference_lag_frames); `propagated` is r's state moved to t. With
+  /// `landmark_motion`, the same motion with the landmark detector's attitude uncertainty
+  /// (ConflictOptions::landmark_attitude_sigma_rad).
   bool imuMotion(const Entry& r, Timestamp t, const ImuBuffer& imu, conflict::RelativeMotion* motion,
-                 State* propagated) const;
+                 State* propagated, conflict::RelativeMotion* landmark_motion = nullptr) const;
   /// How many of the latest history frames (at most max_frames) still saw at least
   /// min_landmarks_tested of the tracks in cam0.
   std::size_t trackReach(const ObservationMap& cam0, std::size_t max_frames) const;
