@@ -369,6 +369,7 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_DOUBLE_EQ(c.accel_bias_sigma, dc.accel_bias_sigma);
   EXPECT_DOUBLE_EQ(c.propagated_chi2_threshold, dc.propagated_chi2_threshold);
   EXPECT_DOUBLE_EQ(c.landmark_chi2_threshold, dc.landmark_chi2_threshold);
+  EXPECT_DOUBLE_EQ(c.landmark_attitude_sigma_rad, dc.landmark_attitude_sigma_rad);
   EXPECT_EQ(c.auto_min_static_landmarks, dc.auto_min_static_landmarks);
   EXPECT_EQ(c.rewind_frames, dc.rewind_frames);
   EXPECT_EQ(c.exit_frames, dc.exit_frames);
@@ -413,7 +414,7 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_DOUBLE_EQ(c.smoothing_registration_tolerance_m, dc.smoothing_registration_tolerance_m);
   EXPECT_DOUBLE_EQ(c.smoothing_registration_min_fraction, dc.smoothing_registration_min_fraction);
   EXPECT_DOUBLE_EQ(c.smoothing_registration_max_ambiguity, dc.smoothing_registration_max_ambiguity);
-  EXPECT_EQ(root["conflict"].size(), 78u) << "every conflict option appears once";
+  EXPECT_EQ(root["conflict"].size(), 79u) << "every conflict option appears once";
 }
 
 }  // namespace
