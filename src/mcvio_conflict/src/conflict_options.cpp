@@ -165,6 +165,7 @@ ConflictOptions ConflictOptions::fromYaml(const YAML::Node& node, const std::str
     f.get("frontend_min_count", &o.frontend_min_count);
     f.get("frontend_min_fraction", &o.frontend_min_fraction);
     f.get("frontend_marginal_score", &o.frontend_marginal_score);
+    f.get("frontend_evidence_after_imu_exit", &o.frontend_evidence_after_imu_exit);
     f.get("hold_moving_min_count", &o.hold_moving_min_count);
     f.get("hold_moving_min_fraction", &o.hold_moving_min_fraction);
     f.get("frontend_agreement_ends_hold", &o.frontend_agreement_ends_hold);

@@ -411,7 +411,11 @@ MotionConflictMonitor::Decision MotionConflictMonitor::process(
     // before it counts towards opening an interval (inside one it still holds it open).
     const bool marginal = group_score < options_.frontend_marginal_score && frontend_group_run_ < 2 && !tracker_.inConflict();
     group_seen = group_seen || labelled_group;
-    if (labelled_group && !marginal && frames_since_reset_ >= options_.warmup_frames) evidence = true;
+    // frames_since_imu_exit_ >= 0: no reset since the last IMU-dominated exit, so the warm-up
+    // running is that exit's (ConflictOptions::frontend_evidence_after_imu_exit).
+    const bool warmed_up = frames_since_reset_ >= options_.warmup_frames ||
+                           (options_.frontend_evidence_after_imu_exit && frames_since_imu_exit_ >= 0);
+    if (labelled_group && !marginal && warmed_up) evidence = true;
   } else {
     frontend_group_run_ = 0;
   }

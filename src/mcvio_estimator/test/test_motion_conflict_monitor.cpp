@@ -1592,3 +1592,45 @@ TEST(MotionConflictMonitor, ALateSwitchToImuDominatedRewindsOnlyOverTheWholeView
   // The rewound state, propagated over the exact IMU, is this frame's.
   EXPECT_LT((d.rewind_state.p - sc.traj.position(frameSeconds(imu))).norm(), 1e-3);
 }
+
+// frontend_evidence_after_imu_exit: the warm-up after an IMU-dominated interval waits out the
+// velocity the interval drifted, which the frontend's labels do not use. A group the frontend
+// labels 5 frames after the stopped cabin's interval closed (an occluder carried into view) opens
+// a selective interval at once; with the option off it waits the whole warm-up.
+TEST(MotionConflictMonitor, FrontendLabelsNeedNoWarmUpAfterAnImuDominatedInterval) {
+  Scenario sc = stoppingCabin();
+  sc.frontend_labels = true;
+  const int frames_total = kStopFrame + 100;
+  const conflict::ConflictOptions o = withMode(conflict::ResolutionMode::kAuto);
+  ASSERT_TRUE(o.frontend_evidence_after_imu_exit) << "the default";
+  const auto unlabelled = run(sc, o, frames_total);
+  const int imu = firstFrame(unlabelled, [](const Frame& f) { return f.decision.imu_dominated; });
+  ASSERT_GT(imu, kCabinFrame);
+  const int exit = firstFrame(unlabelled, [&](const Frame& f) { return &f - unlabelled.data() > imu && !inConflict(f); });
+  ASSERT_GE(exit, kStopFrame);
+  const int warm = exit + o.warmup_frames;  // the first frame after the warm-up
+  ASSERT_LT(warm, frames_total);
+  for (int k = exit; k < warm; ++k) ASSERT_FALSE(inConflict(unlabelled[k])) << "frame " << k;
+
+  const int labelled_from = exit + 5;
+  for (std::size_t i = 0; i < 20; ++i) {
+    sc.points[i].frontend_inconsistent = true;
+    sc.points[i].frontend_inconsistent_from_s = frameSeconds(labelled_from);
+  }
+  const auto on = run(sc, o, frames_total);
+  for (int k = 0; k < labelled_from; ++k)
+    ASSERT_EQ(on[k].decision.report.state, unlabelled[k].decision.report.state) << "frame " << k;
+  const int entry = firstFrame(on, [&](const Frame& f) { return &f - on.data() >= exit && inConflict(f); });
+  EXPECT_EQ(entry, labelled_from + o.enter_frames - 1);
+  ASSERT_GE(entry, 0);
+  for (int k = entry; k < warm; ++k) {
+    EXPECT_TRUE(inConflict(on[k])) << "frame " << k;
+    EXPECT_FALSE(on[k].decision.imu_dominated) << "a labelled group beside static tracks, frame " << k;
+  }
+
+  conflict::ConflictOptions off = o;
+  off.frontend_evidence_after_imu_exit = false;
+  const auto waited = run(sc, off, frames_total);
+  const int late = firstFrame(waited, [&](const Frame& f) { return &f - waited.data() >= exit && inConflict(f); });
+  EXPECT_GE(late, warm) << "the whole warm-up";
+}
