@@ -395,6 +395,7 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_EQ(c.frontend_min_count, dc.frontend_min_count);
   EXPECT_DOUBLE_EQ(c.frontend_min_fraction, dc.frontend_min_fraction);
   EXPECT_DOUBLE_EQ(c.frontend_marginal_score, dc.frontend_marginal_score);
+  EXPECT_EQ(c.frontend_evidence_after_imu_exit, dc.frontend_evidence_after_imu_exit);
   EXPECT_DOUBLE_EQ(c.bias_drift_sigmas, dc.bias_drift_sigmas);
   EXPECT_EQ(c.bias_drift_arm_frames, dc.bias_drift_arm_frames);
   EXPECT_EQ(c.bias_drift_min_frames, dc.bias_drift_min_frames);
@@ -414,7 +415,7 @@ TEST(EstimatorOptions, ShippedConfigEqualsDefaults) {
   EXPECT_DOUBLE_EQ(c.smoothing_registration_tolerance_m, dc.smoothing_registration_tolerance_m);
   EXPECT_DOUBLE_EQ(c.smoothing_registration_min_fraction, dc.smoothing_registration_min_fraction);
   EXPECT_DOUBLE_EQ(c.smoothing_registration_max_ambiguity, dc.smoothing_registration_max_ambiguity);
-  EXPECT_EQ(root["conflict"].size(), 79u) << "every conflict option appears once";
+  EXPECT_EQ(root["conflict"].size(), 80u) << "every conflict option appears once";
 }
 
 }  // namespace
