@@ -79,4 +79,23 @@ if [ $rc -eq 130 ] && grep -q "interrupted before frame" "$tmp/run_int.txt" &&
 else
   echo "FAIL: mcvio run after SIGINT exited $rc:"; tail -n 3 "$tmp/run_int.txt"; failed=1
 fi
+# `mcvio play` with nobody listening waits for readers; Ctrl-C must end that wait too (it once
+# waited out --wait-for-readers topic after topic, deaf to the signal).
+"$mcvio" --domain "$domain" play "$tmp/tiny" --wait-for-readers 60 > "$tmp/play_wait.txt" 2>&1 &
+pid=$!
+for _ in $(seq 1 100); do grep -q "waiting up to 60 s for readers of" "$tmp/play_wait.txt" && break; sleep 0.1; done
+kill -INT $pid
+for _ in $(seq 1 50); do kill -0 $pid 2>/dev/null || break; sleep 0.1; done
+if kill -0 $pid 2>/dev/null; then
+  echo "FAIL: mcvio play still waits for readers 5 s after SIGINT"; kill -KILL $pid; failed=1
+else
+  wait $pid
+  rc=$?
+  if [ $rc -eq 130 ] && grep -q "waiting up to 60 s for readers of /cam0/image_raw" "$tmp/play_wait.txt" &&
+     grep -q "interrupted" "$tmp/play_wait.txt"; then
+    echo "ok: mcvio play stopped waiting for readers on SIGINT (130)"
+  else
+    echo "FAIL: mcvio play after SIGINT while waiting exited $rc:"; cat "$tmp/play_wait.txt"; failed=1
+  fi
+fi
 exit $failed

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "mcvio/components/playback_pacer.hpp"
+#include "mcvio/components/reader_wait.hpp"
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/core/progress_bar.hpp"
 #include "mcvio/dds/shutdown_signal.hpp"
@@ -61,14 +62,28 @@ PlaybackSummary BagPlayer::run() {
   }
   if (pubs.empty()) throw std::runtime_error("play: " + bag_ + " has none of the selected topics");
   if (options_.wait_for_readers_s > 0 && options_.min_readers > 0) {
-    const auto timeout = std::chrono::milliseconds(static_cast<int>(options_.wait_for_readers_s * 1000));
+    std::vector<ReaderDemand> demands;
+    std::map<std::string, std::string> bag_name;  // published topic -> the bag's name for it
     for (auto& [name, p] : pubs) {
-      const int wanted = options_.min_readers + (options_.extra_readers ? options_.extra_readers(p->topic()) : 0);
-      if (!p->waitForReaders(wanted, timeout) && options_.lossless) {
-        throw std::runtime_error("play: no reader of " + p->topic() +
-                                 (p->topic() == name ? std::string() : " (the bag's " + name + ")") +
-                                 "; lossless playback needs its readers first");
-      }
+      demands.push_back({p.get(), options_.min_readers + (options_.extra_readers ? options_.extra_readers(p->topic()) : 0)});
+      bag_name[p->topic()] = name;
+    }
+    const auto wait = waitForReaders(demands, options_.wait_for_readers_s, options_.progress, "mcvio play");
+    if (wait.interrupted) {
+      summary.interrupted = true;
+      return summary;
+    }
+    if (!wait.topics_without_readers.empty()) {
+      const std::string& topic = wait.topics_without_readers.front();
+      if (options_.lossless)
+        throw std::runtime_error("play: no reader of " + topic +
+                                 (bag_name[topic] == topic ? std::string() : " (the bag's " + bag_name[topic] + ")") +
+                                 " within " + std::to_string(options_.wait_for_readers_s) +
+                                 " s; lossless playback needs its readers first");
+      if (options_.progress)
+        std::cerr << "mcvio play: no reader yet of " << wait.topics_without_readers.size() << " of " << demands.size()
+                  << " topics (" << topic << (wait.topics_without_readers.size() > 1 ? ", ..." : "")
+                  << "); playing anyway\n";
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int>(options_.settle_s * 1000)));
   }

@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "mcvio/components/playback_pacer.hpp"
+#include "mcvio/components/reader_wait.hpp"
 #include "mcvio/components/ros_conversions.hpp"
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/core/progress_bar.hpp"
@@ -88,14 +89,23 @@ PlaybackSummary Player::run() {
     throw InputError("player: --start " + std::to_string(options_.start_s) + " s is past the end of " + data_.root() +
                      " (" + std::to_string(toSeconds(events.back().t - events.front().t)) + " s of data)");
   if (options_.wait_for_readers_s > 0 && options_.min_readers > 0) {
-    const auto timeout = std::chrono::milliseconds(static_cast<int>(options_.wait_for_readers_s * 1000));
-    for (auto* p : pubs_->all()) {
-      const int wanted = options_.min_readers + (options_.extra_readers ? options_.extra_readers(p->topic()) : 0);
-      if (!p->waitForReaders(wanted, timeout) && options_.lossless) {
-        throw std::runtime_error("player: no reader of " + p->topic() + " within " +
+    std::vector<ReaderDemand> demands;
+    for (auto* p : pubs_->all())
+      demands.push_back({p, options_.min_readers + (options_.extra_readers ? options_.extra_readers(p->topic()) : 0)});
+    const auto wait = waitForReaders(demands, options_.wait_for_readers_s, options_.progress, "mcvio play");
+    if (wait.interrupted) {
+      summary.interrupted = true;
+      return summary;
+    }
+    if (!wait.topics_without_readers.empty()) {
+      if (options_.lossless)
+        throw std::runtime_error("player: no reader of " + wait.topics_without_readers.front() + " within " +
                                  std::to_string(options_.wait_for_readers_s) +
                                  " s; lossless playback needs its readers before it starts");
-      }
+      if (options_.progress)
+        std::cerr << "mcvio play: no reader yet of " << wait.topics_without_readers.size() << " of " << demands.size()
+                  << " topics (" << wait.topics_without_readers.front() << (wait.topics_without_readers.size() > 1 ? ", ..." : "")
+                  << "); playing anyway\n";
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int>(options_.settle_s * 1000)));
   }
