@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <memory>
 #include <opencv2/imgcodecs.hpp>
+#include <unordered_map>
 #include <unordered_set>
 
 #include "folder_layout.hpp"
@@ -73,6 +74,9 @@ std::vector<CameraRow> readCameraRows(const fs::path& cam_dir, const EurocDatase
   CsvReader csv((cam_dir / "data.csv").string());
   std::vector<CameraRow> rows;
   IncreasingTime time;
+  std::unordered_map<std::string, std::string> used_by;  // image -> the row that named it first
+  constexpr int kOddNamesToList = 5;
+  int odd_names = 0;
   forEachRow(csv, options.skip_bad_rows, warnings, [&](CsvReader& row) {
     row.expectFieldCount(2, "camera");
     const Timestamp t = row.int64At(0, "timestamp");
@@ -87,8 +91,24 @@ std::vector<CameraRow> readCameraRows(const fs::path& cam_dir, const EurocDatase
                           std::to_string(t) + " skipped");
       return;
     }
+    // EuRoC names every image after its timestamp: a row naming another time's image (an edited
+    // CSV, a shifted column) or an image already used plays a wrong or frozen frame.
+    // (Ten digits or more: a time in s, us or ns; sequential numbering stays quiet.)
+    const auto [first_use, unused] = used_by.emplace(name, row.location());
+    const auto stem = fs::path(name).stem().string();
+    std::string problem;
+    if (!unused) {
+      problem = " is already the image of " + first_use->second + "; frame " + std::to_string(t) + " repeats it";
+    } else if (stem.size() >= 10 && stem.size() <= 19 && stem.find_first_not_of("0123456789") == std::string::npos &&
+               stem != std::to_string(t)) {
+      problem = " is named after another time than the row's " + std::to_string(t) + "; used as given";
+    }
+    if (!problem.empty() && ++odd_names <= kOddNamesToList) warnings->push_back(row.location() + ": image data/" + name + problem);
     rows.push_back({t, (data_dir / name).string()});
   });
+  if (odd_names > kOddNamesToList)
+    warnings->push_back(csv.path() + ": " + std::to_string(odd_names - kOddNamesToList) +
+                        " more rows name an image of another time or one already used");
   return rows;
 }
 

@@ -237,6 +237,37 @@ TEST_F(EurocBadInput, MissingImageSkipsTheFrameWithWarnings) {
                                           " has no cam0 image");
 }
 
+// Line 4 is frame 2; it names frame 3's image, which line 5 names again.
+TEST_F(EurocBadInput, RowNamingAnotherFramesImageIsAWarning) {
+  replaceLine(mav0_ + "/cam0/data.csv", 4,
+              std::to_string(seq_.frame_times[2]) + "," + std::to_string(seq_.frame_times[3]) + ".png");
+  const EurocDataset data = EurocDataset::open(dir_);
+  EXPECT_EQ(data.stereoFrames().size(), static_cast<std::size_t>(kFrames));
+  ASSERT_EQ(data.warnings().size(), 2u);
+  EXPECT_CONTAINS(data.warnings()[0], mav0_ + "/cam0/data.csv:4: image data/" + std::to_string(seq_.frame_times[3]) +
+                                          ".png is named after another time than the row's " +
+                                          std::to_string(seq_.frame_times[2]));
+  EXPECT_CONTAINS(data.warnings()[1], mav0_ + "/cam0/data.csv:5: image data/" + std::to_string(seq_.frame_times[3]) +
+                                          ".png is already the image of " + mav0_ + "/cam0/data.csv:4");
+}
+
+// Sequentially numbered images (another tool's EuRoC export) are not timestamps: no warnings.
+TEST_F(EurocBadInput, SequentiallyNumberedImagesAreAccepted) {
+  for (int cam = 0; cam < 2; ++cam) {
+    std::string csv = "#timestamp [ns],filename\n";
+    for (int i = 0; i < kFrames; ++i) {
+      char name[16];
+      std::snprintf(name, sizeof(name), "%06d.png", i);
+      fs::rename(imagePath(cam, i), mav0_ + "/cam" + std::to_string(cam) + "/data/" + name);
+      csv += std::to_string(seq_.frame_times[i]) + "," + name + "\n";
+    }
+    writeText(mav0_ + "/cam" + std::to_string(cam) + "/data.csv", csv);
+  }
+  const EurocDataset data = EurocDataset::open(dir_);
+  EXPECT_EQ(data.stereoFrames().size(), static_cast<std::size_t>(kFrames));
+  EXPECT_TRUE(data.warnings().empty()) << data.warnings().front();
+}
+
 TEST_F(EurocBadInput, NoStereoPairsAtAll) {
   for (int i = 0; i < kFrames; ++i) fs::remove(imagePath(1, i));
   EXPECT_CONTAINS(openError(), "no stereo pairs");
