@@ -31,6 +31,14 @@ expect 2 "ROS_DOMAIN_ID='abc' is not a domain id" -- env ROS_DOMAIN_ID=abc "$mcv
 expect 0 "" -- env ROS_DOMAIN_ID=abc "$mcvio" --domain "$domain" topics --wait 0.1
 # A one-second clean sequence (its conflict defaults, 20 s in, used to be checked against its length).
 expect 0 "21 stereo frames (0 in conflict)" -- "$mcvio" sim --duration 1 --out "$tmp/tiny"
+# Every frame is accounted for: 19 frames are too few to initialise, so no pose, and that is a
+# failure (exit 1) rather than an empty trajectory; frames past the IMU's end are rejected, not "0 skipped".
+cp -r "$tmp/tiny" "$tmp/tiny19"
+for c in cam0 cam1; do head -n -2 "$tmp/tiny/mav0/$c/data.csv" > "$tmp/tiny19/mav0/$c/data.csv"; done
+expect 1 "run: no pose was estimated (19 frames waited to initialise" -- "$mcvio" run --dataset "$tmp/tiny19" --out "$tmp/o19" -q
+"$mcvio" sim --duration 4 --out "$tmp/four" > /dev/null 2>&1
+head -n 602 "$tmp/four/mav0/imu0/data.csv" > "$tmp/imu_3s.csv" && mv "$tmp/imu_3s.csv" "$tmp/four/mav0/imu0/data.csv"
+expect 0 "20 rejected by the estimator, 0 skipped by the frontend" -- "$mcvio" run --dataset "$tmp/four" --out "$tmp/o4" -q
 expect 2 "$tmp: is a folder; the pipeline config file must be a YAML file" -- "$mcvio" run --dataset "$tmp/tiny" --out "$tmp/o" --config "$tmp"
 printf 'estimator:\n  keyframe_window_size: 100000000\n' > "$tmp/window.yaml"
 expect 2 "keyframe_window_size' must be in [1, 1000]" -- "$mcvio" run --dataset "$tmp/tiny" --out "$tmp/o" --config "$tmp/window.yaml"

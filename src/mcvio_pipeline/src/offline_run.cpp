@@ -385,7 +385,11 @@ class RunRecorder {
       backend_stage_ms["total"].add(e.timings.total_ms);
       iterations.add(e.solver_iterations);
       if (e.status == estimator::EstimatorStatus::kReset) ++summary.resets;
-      if (e.status == estimator::EstimatorStatus::kNotInitialized) ++not_initialized;
+      if (e.status == estimator::EstimatorStatus::kNotInitialized) {
+        ++not_initialized;
+      } else if (!e.frame_accepted) {
+        if (summary.rejected++ == 0) summary.first_rejection = e.message;
+      }
       keyframes += e.is_keyframe;
       zero_velocity += e.zero_velocity;
       landmarks.add(e.num_landmarks);
@@ -666,6 +670,8 @@ OfflineRunSummary runOffline(const OfflineInput& data, const OfflineRunOptions& 
       {"skipped_frames", summary.skipped},
       {"skip_reasons", rec.skip_reasons},
       {"not_initialized_frames", rec.not_initialized},
+      {"rejected_frames", summary.rejected},
+      {"first_rejection", summary.first_rejection},
       {"resets", summary.resets},
       {"keyframes", rec.keyframes},
       {"zero_velocity_frames", rec.zero_velocity},

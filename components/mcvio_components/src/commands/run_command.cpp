@@ -74,15 +74,21 @@ void addRunCommand(CLI::App& app, CommandContext&) {
       throw CommandExit{130, std::string("run: ") + e.what() + "; " + opt->output_dir +
                                  " keeps the frames done (stats.json says \"completed\": false)"};
     }
-    std::cerr << "mcvio run: " << s.frames << " frames, " << s.estimated << " poses, " << s.skipped << " skipped, "
-              << s.resets << " resets in " << s.wall_seconds << " s (" << s.data_seconds << " s of data, "
-              << (s.wall_seconds > 0 ? s.data_seconds / s.wall_seconds : 0.0) << "x real time) -> "
-              << opt->output_dir << "/trajectory.tum\n";
+    // Every frame is one of: a pose, waiting to initialise, turned down by the estimator, or
+    // skipped by the frontend (its image could not be used).
+    std::cerr << "mcvio run: " << s.frames << " frames, " << s.estimated << " poses";
+    if (s.not_initialized) std::cerr << ", " << s.not_initialized << " before initialisation";
+    if (s.rejected) std::cerr << ", " << s.rejected << " rejected by the estimator";
+    std::cerr << ", " << s.skipped << " skipped by the frontend, " << s.resets << " resets in " << s.wall_seconds
+              << " s (" << s.data_seconds << " s of data, " << (s.wall_seconds > 0 ? s.data_seconds / s.wall_seconds : 0.0)
+              << "x real time) -> " << opt->output_dir << "/trajectory.tum\n";
     for (const auto& reason : s.skip_reasons) std::cerr << "mcvio run: skipped: " << reason << "\n";
     if (s.skipped > s.skip_reasons.size()) std::cerr << "mcvio run: every skip reason: " << opt->output_dir << "/stats.json\n";
+    if (s.rejected) std::cerr << "mcvio run: rejected, the first: " << s.first_rejection << "\n";
     if (s.estimated == 0) {
-      std::cerr << "mcvio run: warning: no pose was estimated (" << s.not_initialized
-                << " frames waited to initialise; see the warnings above and " << opt->output_dir << "/stats.json)\n";
+      throw CommandExit{1, "run: no pose was estimated (" + std::to_string(s.not_initialized) +
+                               " frames waited to initialise; see the warnings above and " + opt->output_dir +
+                               "/stats.json)"};
     }
   });
 }

@@ -57,6 +57,8 @@ struct OfflineRunSummary {
   double peak_rss_mb = 0;       ///< peak resident memory of the process so far (getrusage ru_maxrss)
   double frontend_median_cpu_ms = 0, backend_median_cpu_ms = 0, loader_median_cpu_ms = 0;  ///< per frame
   std::size_t not_initialized = 0;            ///< frames the estimator spent waiting to initialise
+  std::size_t rejected = 0;                   ///< frames the initialised estimator turned down (no IMU yet, time order)
+  std::string first_rejection;                ///< the estimator's reason for the first of them
   std::vector<std::string> skip_reasons;      ///< the first few distinct reasons frames were skipped
   double framesPerSecond() const { return wall_seconds > 0 ? static_cast<double>(frames) / wall_seconds : 0.0; }
   double realtimeFactor() const { return wall_seconds > 0 ? data_seconds / wall_seconds : 0.0; }
