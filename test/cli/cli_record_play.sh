@@ -43,6 +43,14 @@ elif grep -q "messages unreadable; the first: .*byte offset" "$tmp/verify2.txt";
 else
   echo "FAIL: bag info --verify did not name the damaged chunk"; cat "$tmp/verify2.txt"; failed=1
 fi
+# `mcvio run` on the damaged bag stops at the damaged chunk, naming it and what repairs it.
+"$mcvio" run --dataset "$tmp/bag" --calib "$data" --out "$tmp/run_damaged" -q > "$tmp/run_damaged.txt" 2>&1
+rc=$?
+if [ $rc -eq 2 ] && grep -q "$file: .*byte offset .*; \`mcvio bag reindex $tmp/bag\` rewrites the file" "$tmp/run_damaged.txt"; then
+  echo "ok: mcvio run on the damaged bag names the chunk and \`mcvio bag reindex\`"
+else
+  echo "FAIL: mcvio run on the damaged bag (exit $rc)"; cat "$tmp/run_damaged.txt"; failed=1
+fi
 
 # kill -9 mid-recording, then reindex.
 "$mcvio" record -o "$tmp/killed" --all > "$tmp/record2.txt" 2>&1 &

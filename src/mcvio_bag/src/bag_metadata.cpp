@@ -2,12 +2,14 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cerrno>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <system_error>
 
 #include "mcvio/core/input_error.hpp"
+#include "mcvio/core/write_failure.hpp"
 
 namespace mcvio::bag {
 
@@ -227,7 +229,7 @@ void writeBagMetadata(const std::filesystem::path& bag_dir, const BagMetadata& m
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     out << bagMetadataToYaml(metadata);
     out.flush();
-    if (!out) throw std::runtime_error("cannot write " + tmp.string());
+    if (!out) throwCannotWrite(tmp, errno, "the bag's metadata");
   }
   std::filesystem::rename(tmp, path);
 }

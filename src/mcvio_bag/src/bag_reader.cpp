@@ -8,7 +8,7 @@
 
 namespace mcvio::bag {
 
-BagReader::BagReader(const std::filesystem::path& bag, BagReaderOptions options) {
+BagReader::BagReader(const std::filesystem::path& bag, BagReaderOptions options) : bag_(bag) {
   std::vector<std::filesystem::path> files;
   if (std::filesystem::is_regular_file(bag)) {
     const auto ext = bag.extension().string();
@@ -105,7 +105,21 @@ void BagReader::openFiles(const std::vector<std::filesystem::path>& files,
   }
   heads_.resize(files_.size());
   has_head_.assign(files_.size(), false);
-  for (std::size_t i = 0; i < files_.size(); ++i) has_head_[i] = files_[i]->next(heads_[i]);
+  for (std::size_t i = 0; i < files_.size(); ++i) has_head_[i] = readHead(i);
+}
+
+bool BagReader::readHead(std::size_t i) {
+  try {
+    return files_[i]->next(heads_[i]);
+  } catch (const InputError& e) {
+    // Damage met mid-way (a chunk's CRC, a record cut short): say what repairs it, where reindex
+    // does. An sqlite3 database it cannot repair, and some messages already name it.
+    const std::string what = e.what();
+    if (metadata_.storage_identifier != "mcap" || what.find("reindex") != std::string::npos) throw;
+    throw InputError(what + "; `mcvio bag reindex " + bag_.string() +
+                     "` rewrites the file without the damaged records, keeping every intact chunk, and `mcvio bag "
+                     "info --verify " + bag_.string() + "` lists the messages lost");
+  }
 }
 
 bool BagReader::next(BagMessage& out) {
@@ -118,7 +132,7 @@ bool BagReader::next(BagMessage& out) {
   if (best == files_.size()) return false;
   std::swap(out, heads_[best]);
   last_file_ = best;
-  has_head_[best] = files_[best]->next(heads_[best]);
+  has_head_[best] = readHead(best);
   return true;
 }
 

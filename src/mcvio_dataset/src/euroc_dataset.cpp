@@ -2,11 +2,8 @@
 #include "mcvio/dataset/png_gray_decoder.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <filesystem>
-#include <memory>
 #include <opencv2/imgcodecs.hpp>
 #include <unordered_map>
 #include <unordered_set>
@@ -28,25 +25,6 @@ using detail::requireFile;
 using detail::resolveMav0;
 
 namespace {
-
-// Reads width and height from a PNG's IHDR chunk; false if the file is not a readable PNG.
-bool readPngSize(const std::string& path, int* width, int* height) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
-                                                       &std::fclose);
-  if (!file) return false;
-  unsigned char header[24];
-  if (std::fread(header, 1, sizeof(header), file.get()) != sizeof(header)) return false;
-  static const unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (std::memcmp(header, kSignature, 8) != 0 || std::memcmp(header + 12, "IHDR", 4) != 0)
-    return false;
-  auto be32 = [](const unsigned char* p) {
-    return static_cast<int>((std::uint32_t(p[0]) << 24) | (std::uint32_t(p[1]) << 16) |
-                            (std::uint32_t(p[2]) << 8) | std::uint32_t(p[3]));
-  };
-  *width = be32(header + 16);
-  *height = be32(header + 20);
-  return true;
-}
 
 std::string sizeMismatch(const std::string& path, int width, int height,
                          const CameraCalibration& cam, const std::string& yaml) {
@@ -158,7 +136,7 @@ EurocDataset EurocDataset::open(const std::string& dir, const EurocDatasetOption
       const std::string& path = data.frames_.front().path(cam);
       int w = 0, h = 0;
       const CameraCalibration& c = calib.camera(cam);
-      if (readPngSize(path, &w, &h) && (w != c.model.width() || h != c.model.height())) {
+      if (PngGrayDecoder::readSize(path, &w, &h) && (w != c.model.width() || h != c.model.height())) {
         throw InputError(sizeMismatch(path, w, h, c, (mav0 / c.name / "sensor.yaml").string()));
       }
     }
@@ -191,8 +169,9 @@ cv::Mat EurocDataset::loadImage(const StereoFrame& frame, int camera) const {
 cv::Mat EurocDataset::loadImage(const std::string& path, int camera) const {
   cv::Mat image;
   std::string error;
+  checkHeaderSize(path, camera);
   if (!decode(path, &image, &error)) throw InputError(error);
-  checkSize(path, image, camera);
+  checkSize(path, image.cols, image.rows, camera);
   return image;
 }
 
@@ -200,15 +179,21 @@ bool EurocDataset::tryLoadImage(const StereoFrame& frame, int camera, cv::Mat* i
   const std::string path = frame.path(camera);
   *image = cv::Mat();
   cv::Mat decoded;
+  checkHeaderSize(path, camera);
   try {
     if (!decode(path, &decoded, error)) return false;
   } catch (const InputError& e) {  // PngGrayDecoder's errors name the file and the damage
     *error = e.what();
     return false;
   }
-  checkSize(path, decoded, camera);
+  checkSize(path, decoded.cols, decoded.rows, camera);
   *image = decoded;
   return true;
+}
+
+void EurocDataset::checkHeaderSize(const std::string& path, int camera) const {
+  int width = 0, height = 0;
+  if (PngGrayDecoder::readSize(path, &width, &height)) checkSize(path, width, height, camera);
 }
 
 bool EurocDataset::decode(const std::string& path, cv::Mat* image, std::string* error) {
@@ -227,10 +212,10 @@ bool EurocDataset::decode(const std::string& path, cv::Mat* image, std::string* 
   return true;
 }
 
-void EurocDataset::checkSize(const std::string& path, const cv::Mat& image, int camera) const {
+void EurocDataset::checkSize(const std::string& path, int width, int height, int camera) const {
   const CameraCalibration& c = calibration_.camera(camera);
-  if (image.cols != c.model.width() || image.rows != c.model.height()) {
-    throw InputError(sizeMismatch(path, image.cols, image.rows, c,
+  if (width != c.model.width() || height != c.model.height()) {
+    throw InputError(sizeMismatch(path, width, height, c,
                                   (fs::path(root_) / c.name / "sensor.yaml").string()));
   }
 }

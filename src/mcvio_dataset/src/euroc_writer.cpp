@@ -1,10 +1,12 @@
 #include "mcvio/dataset/euroc_writer.hpp"
 
+#include <cerrno>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <stdexcept>
 
 #include "mcvio/core/input_error.hpp"
+#include "mcvio/core/write_failure.hpp"
 #include "mcvio/dataset/sensor_yaml.hpp"
 #include "number_format.hpp"
 
@@ -136,7 +138,7 @@ void EurocWriter::addImage(int camera, Timestamp t, const cv::Mat& image) {
   } catch (const cv::Exception& e) {
     throw InputError(path + ": cannot write image: " + e.what());
   }
-  if (!ok) throw InputError(path + ": cannot write image");
+  if (!ok) throwCannotWrite(path, errno, "image");
   line_.clear();
   appendInt(line_, t);
   line_ += ',';

@@ -28,7 +28,12 @@ inline std::filesystem::path resolveMav0(const std::string& dir) {
   namespace fs = std::filesystem;
   std::error_code ec;
   const fs::path base(dir);
-  if (!fs::is_directory(base, ec)) throw InputError(dir + ": EuRoC folder does not exist");
+  if (!fs::is_directory(base, ec)) {
+    if (fs::exists(base, ec))
+      throw InputError(dir + ": is a file, not a EuRoC folder (a folder holding mav0/, or cam0/ and imu0/; a bag is a "
+                             ".mcap/.db3 file or its folder with metadata.yaml)");
+    throw InputError(dir + ": EuRoC folder does not exist");
+  }
   fs::path root = base / "mav0";
   if (!fs::is_directory(root, ec)) {
     if (!fs::is_directory(base / "cam0", ec) && !fs::is_directory(base / "imu0", ec)) {

@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -13,6 +14,7 @@
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/core/ros_topic_name.hpp"
 #include "mcvio/core/yaml_file.hpp"
+#include "mcvio/core/write_failure.hpp"
 #include "number_format.hpp"
 #include "yaml_section.hpp"
 
@@ -203,7 +205,7 @@ void writeFile(const std::filesystem::path& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
   out << text;
   out.close();
-  if (!out) throw InputError(path.string() + ": cannot write it");
+  if (!out) throwCannotWrite(path, errno);
 }
 
 }  // namespace

@@ -235,4 +235,20 @@ PngGrayDecoder::Status PngGrayDecoder::decodeFile(const std::string& path, cv::M
   return decode(bytes.data(), bytes.size(), path, image);
 }
 
+bool PngGrayDecoder::readSize(const std::string& path, int* width, int* height) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (f == nullptr) return false;
+  std::uint8_t head[24];
+  const std::size_t n = std::fread(head, 1, sizeof(head), f);
+  std::fclose(f);
+  if (n != sizeof(head) || std::memcmp(head, kSignature, sizeof(kSignature)) != 0 ||
+      bigEndian32(head + 8) != 13 || std::memcmp(head + 12, "IHDR", 4) != 0)
+    return false;
+  const std::uint32_t w = bigEndian32(head + 16), h = bigEndian32(head + 20);
+  if (w == 0 || h == 0 || w > 0x7fffffffu || h > 0x7fffffffu) return false;
+  *width = static_cast<int>(w);
+  *height = static_cast<int>(h);
+  return true;
+}
+
 }  // namespace mcvio::dataset

@@ -2,12 +2,14 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cerrno>
 #include <cmath>
 #include <fstream>
 #include <vector>
 
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/core/yaml_file.hpp"
+#include "mcvio/core/write_failure.hpp"
 #include "calibration_checks.hpp"
 #include "camera_model_fields.hpp"
 #include "number_format.hpp"
@@ -77,7 +79,7 @@ void writeText(const std::string& path, const std::string& text) {
   std::ofstream file(path, std::ios::binary | std::ios::trunc);
   file << text;
   file.close();
-  if (!file) throw InputError(path + ": cannot write file");
+  if (!file) throwCannotWrite(path, errno);
 }
 
 }  // namespace

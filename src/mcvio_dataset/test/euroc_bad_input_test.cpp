@@ -347,6 +347,28 @@ TEST_F(EurocBadInput, ImageSizeContradictsSensorYaml) {
   }
 }
 
+TEST_F(EurocBadInput, AHugeImageIsRefusedByItsHeaderBeforeDecoding) {
+  // A PNG header claiming 40000 x 30000 pixels (a photo dropped into cam0/data, or a forged
+  // file): refused as the wrong size from its first bytes, not decoded (1.2 GB) and then refused.
+  std::string forged = readText(imagePath(0, 3)).substr(0, 16);
+  const char size[8] = {0, 0, char(0x9c), 0x40, 0, 0, 0x75, 0x30};
+  forged += std::string(size, 8) + std::string(64, '\0');
+  writeText(imagePath(0, 3), forged);
+  EurocDatasetOptions options;
+  options.check_image_size = false;
+  const EurocDataset data = EurocDataset::open(dir_, options);
+  cv::Mat image;
+  std::string error;
+  try {
+    data.tryLoadImage(data.stereoFrames()[3], 0, &image, &error);
+    FAIL() << "tryLoadImage did not throw; error: " << error;
+  } catch (const InputError& e) {
+    EXPECT_CONTAINS(e.what(), imagePath(0, 3));
+    EXPECT_CONTAINS(e.what(), "image is 40000x30000 but");
+  }
+  EXPECT_THROW(data.loadImage(data.stereoFrames()[3], 0), InputError);
+}
+
 TEST_F(EurocBadInput, SensorYamlMissingKey) {
   const std::string yaml = mav0_ + "/cam1/sensor.yaml";
   std::string text = readText(yaml);

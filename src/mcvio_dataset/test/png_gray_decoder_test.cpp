@@ -2,6 +2,7 @@
 // adaptive filter choice, the real EuRoC images, and damaged or unsupported files.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <random>
@@ -252,6 +253,42 @@ TEST(PngGrayDecoder, RandomDamageGivesAnImageOrInputErrorNeverACrash) {
   }
   EXPECT_GT(errors, 1000);  // CRCs catch nearly every change
   std::printf("2000 damaged files: %d decoded or left to OpenCV, %d InputError\n", decoded, errors);
+}
+
+TEST(PngGrayDecoder, ReadSizeTakesAnyPngsHeaderWithoutDecoding) {
+  const fs::path dir = fs::temp_directory_path() / "mcvio_png_read_size";
+  fs::create_directories(dir);
+  const auto write = [&](const std::string& name, const Bytes& bytes) {
+    const std::string path = (dir / name).string();
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    std::fwrite(bytes.data(), 1, bytes.size(), f);
+    std::fclose(f);
+    return path;
+  };
+  int w = 0, h = 0;
+  const cv::Mat gray = testImage(8, 9, 3);
+  ASSERT_TRUE(PngGrayDecoder::readSize(write("gray.png", encodePng(gray, PngSpec{{0}})), &w, &h));
+  EXPECT_EQ(w, 9);
+  EXPECT_EQ(h, 8);
+  Bytes colour;
+  cv::Mat three;
+  cv::merge(std::vector<cv::Mat>{gray, gray, gray}, three);
+  ASSERT_TRUE(cv::imencode(".png", three, colour));
+  ASSERT_TRUE(PngGrayDecoder::readSize(write("colour.png", colour), &w, &h));
+  EXPECT_EQ(w, 9);
+  // A header claiming 30000 x 30000 pixels in a few bytes is read as such: nothing is decoded.
+  Bytes forged = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  Bytes ihdr;
+  put32(&ihdr, 30000);
+  put32(&ihdr, 20000);
+  ihdr.insert(ihdr.end(), {8, 0, 0, 0, 0});
+  putChunk(&forged, "IHDR", ihdr);
+  ASSERT_TRUE(PngGrayDecoder::readSize(write("forged.png", forged), &w, &h));
+  EXPECT_EQ(w, 30000);
+  EXPECT_EQ(h, 20000);
+  EXPECT_FALSE(PngGrayDecoder::readSize(write("short.png", Bytes(forged.begin(), forged.begin() + 20)), &w, &h));
+  EXPECT_FALSE(PngGrayDecoder::readSize(write("text.png", Bytes(30, 'x')), &w, &h));
+  EXPECT_FALSE(PngGrayDecoder::readSize((dir / "missing.png").string(), &w, &h));
 }
 
 TEST(PngGrayDecoder, MissingFileIsAnInputErrorNamingIt) {

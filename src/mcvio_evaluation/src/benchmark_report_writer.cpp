@@ -1,6 +1,7 @@
 #include "mcvio/evaluation/benchmark_report_writer.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "mcvio/core/input_error.hpp"
+#include "mcvio/core/write_failure.hpp"
 #include "mcvio/evaluation/plot_canvas.hpp"
 
 namespace mcvio::evaluation {
@@ -136,7 +138,7 @@ void writeBarChart(const std::string& path, const std::string& title, const std:
     cv::rectangle(img, {x, y - 12}, {x + 24, y + 4}, modeColor(s), cv::FILLED);
     cv::putText(img, series[s], {x + 32, y + 2}, font, 0.5, {30, 30, 30}, 1, cv::LINE_AA);
   }
-  if (!cv::imwrite(path, img)) throw InputError(path + ": cannot write the figure");
+  if (!cv::imwrite(path, img)) throwCannotWrite(path, errno, "the figure");
 }
 
 }  // namespace
@@ -467,7 +469,7 @@ std::vector<std::string> BenchmarkReportWriter::write(const BenchmarkResult& res
     std::ofstream f(path);
     f << text;
     f.flush();
-    if (!f) throw InputError(path + ": cannot write");
+    if (!f) throwCannotWrite(path, errno);
     written.push_back(path);
   };
   put("bench.json", toJson(result));

@@ -1,6 +1,7 @@
 #include "mcvio/evaluation/plot_canvas.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -10,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "mcvio/core/input_error.hpp"
+#include "mcvio/core/write_failure.hpp"
 
 namespace mcvio::evaluation {
 
@@ -296,7 +298,7 @@ void PlotCanvas::save(const std::string& path) const {
   } catch (const cv::Exception& e) {
     throw InputError(path + ": cannot write PNG (" + e.what() + ")");
   }
-  if (!ok) throw InputError(path + ": cannot write PNG");
+  if (!ok) throwCannotWrite(path, errno, "PNG");
 }
 
 }  // namespace mcvio::evaluation

@@ -1,5 +1,6 @@
 #include "mcvio/evaluation/report_writer.hpp"
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -11,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "mcvio/core/input_error.hpp"
+#include "mcvio/core/write_failure.hpp"
 #include "mcvio/evaluation/trajectory_io.hpp"
 
 namespace mcvio::evaluation {
@@ -199,7 +201,7 @@ void writeText(const std::string& path, const std::string& text) {
   std::ofstream out(path);
   out << text;
   out.flush();
-  if (!out) throw InputError(path + ": cannot write file");
+  if (!out) throwCannotWrite(path, errno);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "mcvio/evaluation/trajectory_io.hpp"
 
+#include <cerrno>
 #include <charconv>
 #include <cinttypes>
 #include <cmath>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "mcvio/core/input_error.hpp"
+#include "mcvio/core/write_failure.hpp"
 #include "mcvio/dataset/euroc_file_reader.hpp"
 
 namespace mcvio::evaluation {
@@ -184,7 +186,7 @@ void writeTum(const Trajectory& trajectory, const std::string& path) {
     fs::create_directories(p.parent_path(), ec);
   }
   std::FILE* f = std::fopen(path.c_str(), "w");
-  if (!f) throw InputError(path + ": cannot write file");
+  if (!f) throwCannotWrite(path, errno);
   std::fprintf(f, "# t x y z qx qy qz qw  (body pose in world; t in seconds)\n");
   for (const auto& pose : trajectory.poses()) {
     const Timestamp sec = pose.t >= 0 ? pose.t / 1000000000 : -((-pose.t) / 1000000000);
@@ -194,7 +196,7 @@ void writeTum(const Trajectory& trajectory, const std::string& path) {
                  pose.p.z(), pose.q.x(), pose.q.y(), pose.q.z(), pose.q.w());
   }
   const bool ok = std::ferror(f) == 0;
-  if (std::fclose(f) != 0 || !ok) throw InputError(path + ": write error");
+  if (std::fclose(f) != 0 || !ok) throwCannotWrite(path, errno);
 }
 
 }  // namespace mcvio::evaluation

@@ -3,6 +3,7 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -23,6 +24,7 @@
 
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/core/progress_bar.hpp"
+#include "mcvio/core/write_failure.hpp"
 #include "mcvio/bag/bag_reader.hpp"
 #include "mcvio/pipeline/bounded_queue.hpp"
 #include "mcvio/dataset/euroc_dataset.hpp"
@@ -358,7 +360,7 @@ class RunRecorder {
         on_frame_(options.on_frame),
         data_seconds_(data_seconds),
         frames_total_(frames) {
-    if (!conflict_) throw InputError("cannot write " + options.output_dir + "/conflict.csv");
+    if (!conflict_) throwCannotWrite(options.output_dir + "/conflict.csv", errno);
     conflict_ << kConflictCsvHeader;
   }
 

@@ -1,11 +1,13 @@
 #include "revisable_tum_file.hpp"
 
+#include <cerrno>
 #include <cstdio>
 #include <filesystem>
 #include <iomanip>
 #include <system_error>
 
 #include "mcvio/core/input_error.hpp"
+#include "mcvio/core/write_failure.hpp"
 
 namespace mcvio::pipeline {
 
@@ -31,7 +33,7 @@ void writePose(std::ostream& f, const RevisableTumFile::Pose& p) {
 
 RevisableTumFile::RevisableTumFile(std::string path, std::string what)
     : path_(std::move(path)), what_(std::move(what)), file_(path_) {
-  if (!file_) throw InputError("cannot write " + path_);
+  if (!file_) throwCannotWrite(path_, errno);
   // A per-frame version left by an earlier run into this folder would not belong to this one.
   std::error_code ignored;
   std::filesystem::remove(onlinePath(), ignored);
@@ -58,7 +60,7 @@ void RevisableTumFile::finish() {
              << std::filesystem::path(online).filename().string() << ")\n"
              << std::setprecision(9) << std::fixed;
   for (const auto& p : poses_) writePose(final_file, p);
-  if (!final_file) throw InputError("cannot write " + path_);
+  if (!final_file) throwCannotWrite(path_, errno);
 }
 
 std::string RevisableTumFile::onlinePath() const {

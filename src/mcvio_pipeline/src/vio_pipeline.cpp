@@ -40,7 +40,13 @@ VioPipelineOptions fromYaml(const YAML::Node& root, const std::string& where) {
 }  // namespace
 
 VioPipelineOptions VioPipelineOptions::fromYamlFile(const std::string& path) {
-  VioPipelineOptions o = fromYaml(loadYamlFile(path, "pipeline config file"), path);
+  const YAML::Node root = loadYamlFile(path, "pipeline config file");
+  // An empty file would run every stage on its compiled-in defaults, not the shipped config: most
+  // likely a truncated or wrong file, so say so rather than run something nobody asked for.
+  if (root.IsNull())
+    throw InputError(path + ": the pipeline config file is empty (expected frontend: and estimator: sections; "
+                            "leave out --config for the shipped config)");
+  VioPipelineOptions o = fromYaml(root, path);
   o.frontend.resolvePathsFrom(std::filesystem::path(path).parent_path().string());
   return o;
 }

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -22,6 +23,7 @@
 #include "mcvio/conflict/conflict_options.hpp"
 #include "mcvio/core/input_error.hpp"
 #include "mcvio/core/progress_bar.hpp"
+#include "mcvio/core/write_failure.hpp"
 #include "mcvio/dataset/euroc_dataset.hpp"
 #include "mcvio/dds/graph_monitor.hpp"
 #include "mcvio/dds/node.hpp"
@@ -83,8 +85,10 @@ void writePose(std::ostream& out, const Odometry& o) { writePose(out, components
 void writeFinalAndOnline(const fs::path& dir, const std::string& name, const std::string& what, const Path& path,
                          const std::string& path_topic, const std::vector<Odometry>& per_frame,
                          const std::string& odometry_topic) {
-  std::ofstream final_file(dir / (name + ".tum")), online(dir / (name + "_online.tum"));
-  if (!final_file || !online) throw InputError("cannot write into " + dir.string());
+  std::ofstream final_file(dir / (name + ".tum"));
+  if (!final_file) throwCannotWrite(dir / (name + ".tum"), errno);
+  std::ofstream online(dir / (name + "_online.tum"));
+  if (!online) throwCannotWrite(dir / (name + "_online.tum"), errno);
   online << "# t x y z qx qy qz qw  (" << what << "; t in seconds; " << odometry_topic << " per frame)\n"
          << std::setprecision(9) << std::fixed;
   for (const auto& o : per_frame) writePose(online, o);
@@ -221,7 +225,7 @@ bool DemoPipeline::render(const Sequence& s) const {
   bar.finish();
   std::ofstream out(sig_file);
   out << s.signature;
-  if (!out) throw InputError("cannot write " + sig_file.string());
+  if (!out) throwCannotWrite(sig_file, errno);
   return true;
 }
 
@@ -372,7 +376,7 @@ void DemoPipeline::runOverDds(const Sequence& s, SequenceResult& r) const {
   std::lock_guard<std::mutex> lock(m);
   r.mcvio_poses = odometry.size();
   std::ofstream csv(s.mcvio_dir / "conflict.csv");
-  if (!csv) throw InputError("cannot write into " + s.mcvio_dir.string());
+  if (!csv) throwCannotWrite(s.mcvio_dir / "conflict.csv", errno);
   writeFinalAndOnline(s.mcvio_dir, "trajectory", "pose of imu0 in world", path, "/mcvio/path", odometry,
                       "/mcvio/odometry");
   writeFinalAndOnline(s.mcvio_dir, "secondary", "the conflicting frame S in world, identity at the interval start",

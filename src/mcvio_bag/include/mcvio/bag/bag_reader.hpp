@@ -54,7 +54,10 @@ class BagReader {
 
  private:
   void openFiles(const std::vector<std::filesystem::path>& files, const BagReaderOptions& o);
+  /// The next message of file `i` into heads_[i]; a damaged MCAP file's error says what repairs it.
+  bool readHead(std::size_t i);
 
+  std::filesystem::path bag_;
   BagMetadata metadata_;
   std::vector<TopicInfo> topics_;
   std::vector<std::unique_ptr<StorageFileReader>> files_;

@@ -72,7 +72,10 @@ class EurocDataset {
   EurocDataset() = default;
   /// Decodes `path` as 8-bit mono; false with `error` naming the file when it cannot be read.
   static bool decode(const std::string& path, cv::Mat* image, std::string* error);
-  void checkSize(const std::string& path, const cv::Mat& image, int camera) const;
+  /// Checks the size in a PNG's header, so that a wrong-sized file (a 20-megapixel photo in
+  /// cam0/data) is refused before it is decoded.
+  void checkHeaderSize(const std::string& path, int camera) const;
+  void checkSize(const std::string& path, int width, int height, int camera) const;
 
   std::string root_;
   StereoRigCalibration calibration_;

@@ -28,6 +28,11 @@ class PngGrayDecoder {
   /// Reads the file at `path` and decodes it; throws mcvio::InputError naming the file when it
   /// cannot be read or is damaged (see decode()).
   static Status decodeFile(const std::string& path, cv::Mat* image);
+
+  /// The width and height in the IHDR of any PNG file (colour, 16 bit, interlaced included),
+  /// read from its first 24 bytes without decoding; false when `path` cannot be read or does not
+  /// start as a PNG. Lets a caller refuse an image of the wrong size before decoding megapixels.
+  static bool readSize(const std::string& path, int* width, int* height);
 };
 
 }  // namespace mcvio::dataset
