@@ -5,11 +5,12 @@
 #include <cerrno>
 #include <cmath>
 #include <fstream>
+#include <set>
 #include <vector>
 
 #include "mcvio/core/input_error.hpp"
-#include "mcvio/core/yaml_file.hpp"
 #include "mcvio/core/write_failure.hpp"
+#include "mcvio/core/yaml_file.hpp"
 #include "calibration_checks.hpp"
 #include "camera_model_fields.hpp"
 #include "number_format.hpp"
@@ -187,6 +188,26 @@ ImuCalibration SensorYaml::readImu(const std::string& path, const std::string& n
   calibration.noise.accelerometer_noise_density = yaml.positive("accelerometer_noise_density");
   calibration.noise.accelerometer_random_walk = yaml.positive("accelerometer_random_walk");
   return calibration;
+}
+
+std::vector<std::string> SensorYaml::unreadKeys(const std::string& path, bool camera) {
+  static const std::set<std::string> kCommon = {"sensor_type", "comment", "T_BS", "rate_hz"};
+  static const std::set<std::string> kCamera = {"resolution", "camera_model", "intrinsics", "distortion_model",
+                                                "distortion_coefficients"};
+  static const std::set<std::string> kImu = {"gyroscope_noise_density", "gyroscope_random_walk",
+                                             "accelerometer_noise_density", "accelerometer_random_walk"};
+  const YAML::Node root = loadYamlFile(path, "sensor calibration file");
+  std::vector<std::string> warnings;
+  if (!root.IsMap()) return warnings;
+  for (const auto& kv : root) {
+    const std::string key = kv.first.Scalar();
+    if (kCommon.count(key) || (camera ? kCamera : kImu).count(key)) continue;
+    const int line = kv.first.Mark().line;
+    warnings.push_back(path + (line >= 0 ? ":" + std::to_string(line + 1) : "") + ": key '" + key +
+                       "' is not one mcvio reads from " + (camera ? "a camera's" : "an IMU's") +
+                       " sensor.yaml; ignored (misspelt?)");
+  }
+  return warnings;
 }
 
 void SensorYaml::writeCamera(const std::string& path, const CameraCalibration& calibration) {

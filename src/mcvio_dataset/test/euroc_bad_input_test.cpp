@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "mcvio/core/input_error.hpp"
@@ -367,6 +368,22 @@ TEST_F(EurocBadInput, AHugeImageIsRefusedByItsHeaderBeforeDecoding) {
     EXPECT_CONTAINS(e.what(), "image is 40000x30000 but");
   }
   EXPECT_THROW(data.loadImage(data.stereoFrames()[3], 0), InputError);
+}
+
+TEST_F(EurocBadInput, AKeyMcvioDoesNotReadIsAWarningNamingFileAndLine) {
+  const std::string yaml = mav0_ + "/cam1/sensor.yaml";
+  writeText(yaml, readText(yaml) + "camera_modle: ds\n");
+  const std::string imu_yaml = mav0_ + "/imu0/sensor.yaml";
+  writeText(imu_yaml, readText(imu_yaml) + "resolution: [1, 1]\n");
+  const EurocDataset data = EurocDataset::open(dir_);
+  std::string all;
+  for (const auto& w : data.warnings()) all += w + "\n";
+  const std::string text = readText(yaml);
+  const auto lines = std::count(text.begin(), text.end(), '\n');
+  EXPECT_CONTAINS(all, yaml + ":" + std::to_string(lines) + ": key 'camera_modle' is not one mcvio reads from a camera's");
+  EXPECT_CONTAINS(all, imu_yaml + ":");
+  EXPECT_CONTAINS(all, "key 'resolution' is not one mcvio reads from an IMU's sensor.yaml; ignored");
+  EXPECT_EQ(all.find("cam0/sensor.yaml"), std::string::npos) << all;
 }
 
 TEST_F(EurocBadInput, SensorYamlMissingKey) {

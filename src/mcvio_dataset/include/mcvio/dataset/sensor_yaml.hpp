@@ -1,5 +1,6 @@
 #pragma once
 #include <string>
+#include <vector>
 
 #include "mcvio/core/camera_calibration.hpp"
 #include "mcvio/core/imu_calibration.hpp"
@@ -20,6 +21,10 @@ class SensorYaml {
   static CameraCalibration readCamera(const std::string& path, const std::string& name);
   /// Reads an IMU's sensor.yaml; `name` becomes ImuCalibration::name.
   static ImuCalibration readImu(const std::string& path, const std::string& name);
+  /// One warning per top-level key of the file at `path` that readCamera() (`camera` true) or
+  /// readImu() does not read, naming the file, line and key: a misspelt optional key
+  /// (`camera_modle: ds`) would otherwise be ignored without a word. Call after the read.
+  static std::vector<std::string> unreadKeys(const std::string& path, bool camera);
 
   /// Writes the files in EuRoC's layout; every double is written with the shortest text that
   /// reads back to the same value. Throws mcvio::InputError if the file cannot be written.
