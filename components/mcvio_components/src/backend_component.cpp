@@ -88,7 +88,9 @@ struct BackendComponent::Impl {
   Impl(std::shared_ptr<dds::Node> n, BackendComponentOptions o)
       : node(std::move(n)), options(std::move(o)) {
     options.validate();
-    rig = dataset::RigCalibrationReader::read(options.calibration_dir);
+    std::vector<std::string> calibration_warnings;
+    rig = dataset::RigCalibrationReader::read(options.calibration_dir, &calibration_warnings);
+    for (const auto& w : calibration_warnings) std::cerr << "mcvio backend: warning: " << w << "\n";
     detail::remapToCalibratedTopics(*node, rig, false, "backend");
     imu_topic = node->resolveTopic(kImuTopic);
     features_topic = node->resolveTopic(kFeaturesTopic);

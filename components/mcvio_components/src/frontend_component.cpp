@@ -59,7 +59,9 @@ struct FrontendComponent::Impl {
       : node(std::move(n)), options(std::move(o)), tracker(options.tracker) {
     options.validate();
     if (!options.calibration_dir.empty()) {
-      const auto rig = dataset::RigCalibrationReader::read(options.calibration_dir);
+      std::vector<std::string> calibration_warnings;
+      const auto rig = dataset::RigCalibrationReader::read(options.calibration_dir, &calibration_warnings);
+      for (const auto& w : calibration_warnings) std::cerr << "mcvio frontend: warning: " << w << "\n";
       camera_time_offset_ns = rig.camera_time_offset_ns;
       tracker.setCalibration(rig);
       detail::remapToCalibratedTopics(*node, rig, true, "frontend");

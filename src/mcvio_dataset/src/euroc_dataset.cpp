@@ -100,11 +100,7 @@ EurocDataset EurocDataset::open(const std::string& dir, const EurocDatasetOption
   EurocDataset data;
   const fs::path mav0 = resolveMav0(dir);
   data.root_ = mav0.string();
-  data.calibration_ = EurocFileReader::readCalibration(data.root_);
-  for (const char* sensor : {"cam0", "cam1", "imu0"}) {
-    for (auto& w : SensorYaml::unreadKeys((mav0 / sensor / "sensor.yaml").string(), std::string(sensor) != "imu0"))
-      data.warnings_.push_back(std::move(w));
-  }
+  data.calibration_ = EurocFileReader::readCalibration(data.root_, &data.warnings_);
   const StereoRigCalibration& calib = data.calibration_;
 
   // Stereo frames.

@@ -114,7 +114,7 @@ std::vector<ConflictLabel> EurocFileReader::readLabels(const std::string& path, 
   return labels;
 }
 
-StereoRigCalibration EurocFileReader::readCalibration(const std::string& dir) {
+StereoRigCalibration EurocFileReader::readCalibration(const std::string& dir, std::vector<std::string>* warnings) {
   const fs::path mav0 = detail::resolveMav0(dir);
   StereoRigCalibration calib;
   for (int i = 0; i < 2; ++i) {
@@ -125,6 +125,12 @@ StereoRigCalibration EurocFileReader::readCalibration(const std::string& dir) {
   }
   detail::requireDir(mav0 / "imu0");
   calib.imu = SensorYaml::readImu(detail::requireFile(mav0 / "imu0" / "sensor.yaml"), "imu0");
+  if (warnings != nullptr) {
+    for (const char* sensor : {"cam0", "cam1", "imu0"}) {
+      for (auto& w : SensorYaml::unreadKeys((mav0 / sensor / "sensor.yaml").string(), std::string(sensor) != "imu0"))
+        warnings->push_back(std::move(w));
+    }
+  }
   return calib;
 }
 

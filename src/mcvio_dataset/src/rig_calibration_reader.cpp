@@ -55,7 +55,7 @@ bool RigCalibrationReader::isEurocFolder(const std::string& path) {
   return fs::is_directory(p, ec) && (fs::exists(p / "mav0", ec) || fs::exists(p / "cam0", ec));
 }
 
-StereoRigCalibration RigCalibrationReader::read(const std::string& path) {
+StereoRigCalibration RigCalibrationReader::read(const std::string& path, std::vector<std::string>* warnings) {
   const fs::path p(path);
   std::error_code ec;
   if (fs::is_regular_file(p, ec)) {
@@ -63,7 +63,7 @@ StereoRigCalibration RigCalibrationReader::read(const std::string& path) {
     return readKalibr(p);
   }
   if (!fs::is_directory(p, ec)) throw InputError(path + ": calibration folder or file does not exist (a EuRoC folder, or Kalibr's camchain-imucam YAML)");
-  if (isEurocFolder(path)) return EurocFileReader::readCalibration(path);
+  if (isEurocFolder(path)) return EurocFileReader::readCalibration(path, warnings);
   const auto chains = yamlFiles(p, "camchain-imucam");
   if (chains.size() == 1) return readKalibr(chains.front());
   if (chains.size() > 1) throw InputError(path + ": several Kalibr camchains (" + listed(chains) + "): name one with --calib FILE");

@@ -137,7 +137,8 @@ OfflineInput readBag(const OfflineRunOptions& options) {
                      "camera_info carries no stereo extrinsics");
   }
   OfflineInput in;
-  in.calibration = dataset::RigCalibrationReader::read(options.calibration_dir);
+  std::vector<std::string> calibration_warnings;
+  in.calibration = dataset::RigCalibrationReader::read(options.calibration_dir, &calibration_warnings);
   const TopicRemapping remapping = withCalibratedTopics(options, in.calibration, in.notes);
   // The bag's names for what the run reads (--remap /imu0:=/camera/imu).
   const std::string cam0 = remapping.resolve("/cam0/image_raw"), cam1 = remapping.resolve("/cam1/image_raw");
@@ -154,6 +155,7 @@ OfflineInput readBag(const OfflineRunOptions& options) {
   // metadata.yaml disagreeing with the storage, an unknown sqlite3 schema version, a topic that
   // is not CDR: the run goes on, and says so like `mcvio play` does.
   in.warnings = reader.warnings();
+  in.warnings.insert(in.warnings.begin(), calibration_warnings.begin(), calibration_warnings.end());
   std::map<std::string, std::unique_ptr<rosmsg::MessageDefinitionSet>> defs;
   for (const auto& t : reader.topics()) {
     std::string definition = t.message_definition;
@@ -286,11 +288,11 @@ OfflineInput readBag(const OfflineRunOptions& options) {
 OfflineInput readEuroc(const OfflineRunOptions& options) {
   auto data = std::make_shared<dataset::EurocDataset>(dataset::EurocDataset::open(options.dataset_dir));
   OfflineInput in;
+  in.warnings = data->warnings();
   in.calibration = options.calibration_dir.empty() ? data->calibration()
-                                                   : dataset::RigCalibrationReader::read(options.calibration_dir);
+                                                   : dataset::RigCalibrationReader::read(options.calibration_dir, &in.warnings);
   in.imu = data->imu();
   for (const auto& f : data->stereoFrames()) in.frame_times.push_back(f.t);
-  in.warnings = data->warnings();
   // One damaged image costs its frame (the frontend skips a frame without both images), not the
   // run; a size that differs from sensor.yaml still stops it.
   in.images = [data](std::size_t i) {

@@ -108,7 +108,9 @@ void addCalibCommand(CLI::App& app, CommandContext&) {
     for (const char* name : {"camchain-imucam.yaml", "imu.yaml"})
       if (!opt->to_kalibr.empty() && fs::exists(fs::path(opt->to_kalibr) / name, ec))
         throw InputError((fs::path(opt->to_kalibr) / name).string() + ": already exists; --to-kalibr does not overwrite");
-    const StereoRigCalibration rig = dataset::RigCalibrationReader::read(opt->path);
+    std::vector<std::string> warnings;
+    const StereoRigCalibration rig = dataset::RigCalibrationReader::read(opt->path, &warnings);
+    for (const auto& w : warnings) std::cerr << "mcvio calib: warning: " << w << "\n";
     std::cout << "calibration: " << opt->path << "\n" << describe(rig);
     if (!opt->to_kalibr.empty()) {
       dataset::KalibrCalibration::write(rig, opt->to_kalibr);

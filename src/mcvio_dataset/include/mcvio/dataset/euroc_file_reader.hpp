@@ -30,7 +30,9 @@ class EurocFileReader {
   static std::vector<ConflictLabel> readLabels(const std::string& path, bool skip_bad_rows = false,
                                                std::vector<std::string>* warnings = nullptr);
   /// cam0/, cam1/ and imu0/sensor.yaml below `dir` (the folder holding mav0/, or mav0/ itself).
-  static StereoRigCalibration readCalibration(const std::string& dir);
+  /// `warnings` (if given) gets one line per key of those files that is not read
+  /// (SensorYaml::unreadKeys).
+  static StereoRigCalibration readCalibration(const std::string& dir, std::vector<std::string>* warnings = nullptr);
 };
 
 }  // namespace mcvio::dataset

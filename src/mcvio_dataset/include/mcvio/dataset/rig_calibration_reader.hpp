@@ -1,5 +1,6 @@
 #pragma once
 #include <string>
+#include <vector>
 
 #include "mcvio/core/stereo_rig_calibration.hpp"
 
@@ -11,7 +12,8 @@ namespace mcvio::dataset {
 /// Throws mcvio::InputError naming the path and what it lacks.
 class RigCalibrationReader {
  public:
-  static StereoRigCalibration read(const std::string& path);
+  /// `warnings` (if given) gets a line per sensor.yaml key a EuRoC folder has that is not read.
+  static StereoRigCalibration read(const std::string& path, std::vector<std::string>* warnings = nullptr);
   /// True when `path` is read as a EuRoC folder (it holds mav0/ or cam0/), false for Kalibr's files.
   static bool isEurocFolder(const std::string& path);
 };
