@@ -84,6 +84,17 @@ Bytes encodePng(const cv::Mat& img, const PngSpec& spec) {
   return png;
 }
 
+// The signature and an 8-bit greyscale IHDR claiming `width` x `height`, and nothing else.
+Bytes forgedHeader(std::uint32_t width, std::uint32_t height) {
+  Bytes png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  Bytes ihdr;
+  put32(&ihdr, width);
+  put32(&ihdr, height);
+  ihdr.insert(ihdr.end(), {8, 0, 0, 0, 0});
+  putChunk(&png, "IHDR", ihdr);
+  return png;
+}
+
 // Texture with flat areas, edges and noise, so every predictor wins somewhere and Paeth meets ties.
 cv::Mat testImage(int rows, int cols, unsigned seed) {
   cv::Mat img(rows, cols, CV_8UC1);
@@ -179,12 +190,7 @@ TEST(PngGrayDecoder, OtherPngsAndOtherFormatsAreLeftToOpenCv) {
   EXPECT_EQ(PngGrayDecoder::decode(png.data(), png.size(), "b.png", &out), Status::kUnsupported);
   EXPECT_EQ(PngGrayDecoder::decode(png.data(), 0, "empty.png", &out), Status::kUnsupported);
   // A forged header of 30000 x 30000 pixels in a file of a few bytes reserves nothing here.
-  Bytes forged = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  Bytes ihdr;
-  put32(&ihdr, 30000);
-  put32(&ihdr, 30000);
-  ihdr.insert(ihdr.end(), {8, 0, 0, 0, 0});
-  putChunk(&forged, "IHDR", ihdr);
+  Bytes forged = forgedHeader(30000, 30000);
   putChunk(&forged, "IDAT", Bytes{0x78, 0x9c, 0x03, 0x00, 0x00, 0x00, 0x00, 0x01});
   EXPECT_EQ(PngGrayDecoder::decode(forged.data(), forged.size(), "forged.png", &out), Status::kUnsupported);
 }
@@ -276,13 +282,8 @@ TEST(PngGrayDecoder, ReadSizeTakesAnyPngsHeaderWithoutDecoding) {
   ASSERT_TRUE(cv::imencode(".png", three, colour));
   ASSERT_TRUE(PngGrayDecoder::readSize(write("colour.png", colour), &w, &h));
   EXPECT_EQ(w, 9);
-  // A header claiming 30000 x 30000 pixels in a few bytes is read as such: nothing is decoded.
-  Bytes forged = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  Bytes ihdr;
-  put32(&ihdr, 30000);
-  put32(&ihdr, 20000);
-  ihdr.insert(ihdr.end(), {8, 0, 0, 0, 0});
-  putChunk(&forged, "IHDR", ihdr);
+  // A header claiming 30000 x 20000 pixels in a few bytes is read as such: nothing is decoded.
+  const Bytes forged = forgedHeader(30000, 20000);
   ASSERT_TRUE(PngGrayDecoder::readSize(write("forged.png", forged), &w, &h));
   EXPECT_EQ(w, 30000);
   EXPECT_EQ(h, 20000);
