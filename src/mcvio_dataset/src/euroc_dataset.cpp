@@ -169,8 +169,7 @@ cv::Mat EurocDataset::loadImage(const StereoFrame& frame, int camera) const {
 cv::Mat EurocDataset::loadImage(const std::string& path, int camera) const {
   cv::Mat image;
   std::string error;
-  checkHeaderSize(path, camera);
-  if (!decode(path, &image, &error)) throw InputError(error);
+  if (!decode(path, camera, &image, &error)) throw InputError(error);
   checkSize(path, image.cols, image.rows, camera);
   return image;
 }
@@ -179,28 +178,29 @@ bool EurocDataset::tryLoadImage(const StereoFrame& frame, int camera, cv::Mat* i
   const std::string path = frame.path(camera);
   *image = cv::Mat();
   cv::Mat decoded;
-  checkHeaderSize(path, camera);
-  try {
-    if (!decode(path, &decoded, error)) return false;
-  } catch (const InputError& e) {  // PngGrayDecoder's errors name the file and the damage
-    *error = e.what();
-    return false;
-  }
+  if (!decode(path, camera, &decoded, error)) return false;
   checkSize(path, decoded.cols, decoded.rows, camera);
   *image = decoded;
   return true;
 }
 
-void EurocDataset::checkHeaderSize(const std::string& path, int camera) const {
-  int width = 0, height = 0;
-  if (PngGrayDecoder::readSize(path, &width, &height)) checkSize(path, width, height, camera);
-}
-
-bool EurocDataset::decode(const std::string& path, cv::Mat* image, std::string* error) {
+bool EurocDataset::decode(const std::string& path, int camera, cv::Mat* image, std::string* error) const {
+  // EuRoC's own 8-bit greyscale PNGs take the fast path (which caps the size it decodes);
+  // anything else goes to OpenCV.
+  PngGrayDecoder::Status status;
   try {
-    // EuRoC's own 8-bit greyscale PNGs take the fast path; anything else goes to OpenCV.
-    if (PngGrayDecoder::decodeFile(path, image) == PngGrayDecoder::Status::kUnsupported)
+    status = PngGrayDecoder::decodeFile(path, image);
+  } catch (const InputError& e) {  // PngGrayDecoder's errors name the file and the damage
+    *error = e.what();
+    return false;
+  }
+  try {
+    if (status == PngGrayDecoder::Status::kUnsupported) {
+      // OpenCV would decode whatever size the header claims before checkSize could refuse it.
+      int width = 0, height = 0;
+      if (PngGrayDecoder::readSize(path, &width, &height)) checkSize(path, width, height, camera);
       *image = cv::imread(path, cv::IMREAD_GRAYSCALE);
+    }
   } catch (const cv::Exception& e) {
     *error = path + ": cannot decode image: " + e.what();
     return false;

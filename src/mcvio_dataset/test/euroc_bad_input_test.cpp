@@ -2,6 +2,7 @@
 // naming it while the rest of the sequence still loads.
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -351,9 +352,12 @@ TEST_F(EurocBadInput, ImageSizeContradictsSensorYaml) {
 TEST_F(EurocBadInput, AHugeImageIsRefusedByItsHeaderBeforeDecoding) {
   // A PNG header claiming 40000 x 30000 pixels (a photo dropped into cam0/data, or a forged
   // file): refused as the wrong size from its first bytes, not decoded (1.2 GB) and then refused.
-  std::string forged = readText(imagePath(0, 3)).substr(0, 16);
-  const char size[8] = {0, 0, char(0x9c), 0x40, 0, 0, 0x75, 0x30};
-  forged += std::string(size, 8) + std::string(64, '\0');
+  // A well-formed 8-bit greyscale IHDR (its CRC right), then a few bytes of nothing.
+  const unsigned char ihdr[17] = {'I', 'H', 'D', 'R', 0, 0, 0x9c, 0x40, 0, 0, 0x75, 0x30, 8, 0, 0, 0, 0};
+  const auto crc = static_cast<std::uint32_t>(crc32(0L, ihdr, sizeof(ihdr)));
+  std::string forged = readText(imagePath(0, 3)).substr(0, 12) + std::string(reinterpret_cast<const char*>(ihdr), 17);
+  for (int shift : {24, 16, 8, 0}) forged += static_cast<char>((crc >> shift) & 0xff);
+  forged += std::string(64, '\0');
   writeText(imagePath(0, 3), forged);
   EurocDatasetOptions options;
   options.check_image_size = false;

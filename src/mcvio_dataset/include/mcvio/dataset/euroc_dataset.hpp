@@ -70,11 +70,10 @@ class EurocDataset {
 
  private:
   EurocDataset() = default;
-  /// Decodes `path` as 8-bit mono; false with `error` naming the file when it cannot be read.
-  static bool decode(const std::string& path, cv::Mat* image, std::string* error);
-  /// Checks the size in a PNG's header, so that a wrong-sized file (a 20-megapixel photo in
-  /// cam0/data) is refused before it is decoded.
-  void checkHeaderSize(const std::string& path, int camera) const;
+  /// Decodes `path` as 8-bit mono; false with `error` naming the file when it cannot be read or
+  /// is damaged. A PNG left to OpenCV whose header gives another size than camera `camera`'s (a
+  /// 20-megapixel photo in cam0/data) throws before it is decoded.
+  bool decode(const std::string& path, int camera, cv::Mat* image, std::string* error) const;
   void checkSize(const std::string& path, int width, int height, int camera) const;
 
   std::string root_;
