@@ -11,9 +11,8 @@
 #include <thread>
 #include <utility>
 
-#include "mcvio/conflict/conflict_options.hpp"
-#include "mcvio/estimator/sliding_window_estimator.hpp"
 #include "mcvio/evaluation/evaluator.hpp"
+#include "mcvio/evaluation/mode_run_recorder.hpp"
 #include "mcvio/evaluation/report_writer.hpp"
 #include "mcvio/evaluation/ride_measurement.hpp"
 #include "mcvio/sim/feature_simulator.hpp"
@@ -44,68 +43,6 @@ std::string formatSeconds(double s) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", s);
   return buf;
-}
-
-DetectorRecord::State toRecordState(estimator::ConflictReport::State s) {
-  switch (s) {
-    case estimator::ConflictReport::State::kSuspected: return DetectorRecord::State::kSuspected;
-    case estimator::ConflictReport::State::kConflict: return DetectorRecord::State::kConflict;
-    default: return DetectorRecord::State::kNone;
-  }
-}
-
-BenchmarkModeRun runEstimator(const sim::FeatureSequence& seq, const std::string& mode,
-                              const estimator::EstimatorOptions& options, double pixel_sigma) {
-  estimator::EstimatorOptions eo = options;
-  eo.observation_sigma_px = pixel_sigma;
-  eo.conflict.mode = conflict::resolutionModeFromString(mode, "mode");
-  estimator::SlidingWindowEstimator est(eo, seq.calibration);
-  BenchmarkModeRun run;
-  run.mode = mode;
-  const auto t0 = Clock::now();
-  std::size_t k = 0;
-  std::vector<StampedPose> poses, online, secondary;
-  bool revised = false;
-  poses.reserve(seq.frames.size());
-  online.reserve(seq.frames.size());
-  for (const auto& f : seq.frames) {
-    while (k < seq.imu.size() && seq.imu[k].t <= f.t) est.addImu(seq.imu[k++]);
-    const estimator::EstimatorOutput out = est.addFrame(f);
-    ++run.frames;
-    if (!out.frame_accepted || out.status != estimator::EstimatorStatus::kTracking) continue;
-    if (!poses.empty() && out.t <= poses.back().t) continue;
-    poses.push_back({out.t, out.p_WB, out.q_WB.normalized()});
-    online.push_back(poses.back());
-    if (out.conflict.secondary_valid) secondary.push_back({out.t, out.conflict.p_WS, out.conflict.q_WS.normalized()});
-    // The conflict window re-estimated earlier frames (and the conflicting frame seen from them):
-    // the run's trajectories are the final estimates.
-    estimator::applyPoseRevisions(&poses, out.revised_poses);
-    revised = revised || !out.revised_poses.empty();
-    estimator::applyPoseRevisions(&secondary, out.revised_secondary);
-    run.cpu_ms.push_back(out.timings.cpu_total_ms);
-    run.conflict_ms.push_back(out.timings.conflict_ms);
-    DetectorRecord r;
-    r.t = out.t;
-    r.state = toRecordState(out.conflict.state);
-    r.propagated_chi2 = out.conflict.propagated_chi2;
-    r.propagated_threshold = out.conflict.propagated_threshold;
-    r.landmarks_tested = out.conflict.landmarks_tested;
-    r.landmarks_inconsistent = out.conflict.landmarks_inconsistent;
-    r.inconsistent_fraction = out.conflict.inconsistent_fraction;
-    r.coherence = out.conflict.coherence;
-    r.interval_start = out.conflict.interval_start;
-    r.interval_onset = out.conflict.interval_onset;
-    r.interval_end = out.conflict.interval_end;
-    r.resolution_mode = out.conflict.resolution_mode;
-    r.evidence_score = out.conflict.evidence_score;
-    run.detector.push_back(r);
-  }
-  run.wall_s = secondsSince(t0);
-  run.resets = est.resetCount();
-  run.estimate = Trajectory(std::move(poses), mode);
-  if (revised) run.estimate_online = Trajectory(std::move(online), mode + " online");
-  run.secondary = Trajectory(std::move(secondary), mode + " secondary");
-  return run;
 }
 
 const std::vector<std::string> kDetectorColumns = {
@@ -198,11 +135,20 @@ BenchmarkSequenceResult BenchmarkSuite::runSequence(const BenchmarkSequence& seq
   const Trajectory ground_truth(std::move(gt_poses), sequence.name + " ground truth");
   const ConflictLabelTimeline labels(seq.labels, sequence.name + " labels");
 
+  // The modes' estimators take each frame in turn (the first one rotating), so that their CPU per
+  // frame is measured under the same host load.
+  std::vector<ModeRunRecorder> recorders;
+  recorders.reserve(options_.modes.size());
+  for (const auto& mode : options_.modes)
+    recorders.emplace_back(seq, mode, options_.estimator, options_.features.pixel_noise_sigma);
+  const std::size_t n_modes = recorders.size();
+  for (std::size_t i = 0; i < seq.frames.size(); ++i)
+    for (std::size_t j = 0; j < n_modes; ++j) recorders[(i + j) % n_modes].addFrame(i);
   std::vector<BenchmarkModeRun> runs;
-  for (const auto& mode : options_.modes) {
-    BenchmarkModeRun run = runEstimator(seq, mode, options_.estimator, options_.features.pixel_noise_sigma);
+  for (auto& recorder : recorders) {
+    BenchmarkModeRun run = recorder.finish();
     if (on_run) {
-      std::string line = sequence.name + " " + mode + ": " + std::to_string(run.estimate.size()) + "/" +
+      std::string line = sequence.name + " " + run.mode + ": " + std::to_string(run.estimate.size()) + "/" +
                          std::to_string(run.frames) + " frames tracked";
       if (run.estimate.size() >= 2) {
         const AteResult quick = computeAte(run.estimate, ground_truth, Alignment::kPositionYaw);

@@ -10,9 +10,12 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "mcvio/core/input_error.hpp"
 #include "mcvio/core/time.hpp"
 #include "mcvio/evaluation/benchmark_report_writer.hpp"
 #include "mcvio/evaluation/benchmark_suite.hpp"
+#include "mcvio/evaluation/mode_run_recorder.hpp"
+#include "mcvio/sim/feature_simulator.hpp"
 
 using namespace mcvio::evaluation;
 namespace fs = std::filesystem;
@@ -265,6 +268,51 @@ TEST(BenchmarkSuite, VehicleTravelOfTheSecondaryFrameInTheGroundTruthsFrame) {
   }());
   EXPECT_NE(md.find("## Vehicle travel"), std::string::npos);
   EXPECT_NE(md.find("vehicle FAIL"), std::string::npos);  // 14.5 % > 10 %
+}
+
+// The suite steps every mode's estimator frame by frame in turn (so their CPU per frame sees the
+// same host load). That must not change what any of them estimates: no state is shared.
+TEST(ModeRunRecorder, ModesSteppedInTurnEstimateWhatEachDoesAlone) {
+  mcvio::sim::SimulatorOptions so;
+  so.duration_s = 18.0;
+  so.scenario.kind = mcvio::sim::ScenarioKind::kElevator;
+  so.scenario.onset_s = 8.0;
+  so.scenario.duration_s = 6.0;
+  const mcvio::sim::FeatureSimulatorOptions fo;
+  const auto seq = mcvio::sim::simulateFeatureSequence(so, fo);
+  const mcvio::estimator::EstimatorOptions eo;
+  const double sigma = fo.pixel_noise_sigma;
+  const std::vector<std::string> modes = {"reference", "imu"};
+  std::vector<BenchmarkModeRun> alone, in_turn;
+  for (const auto& mode : modes) {
+    ModeRunRecorder r(seq, mode, eo, sigma);
+    for (std::size_t i = 0; i < seq.frames.size(); ++i) r.addFrame(i);
+    alone.push_back(r.finish());
+  }
+  std::vector<ModeRunRecorder> recorders;
+  for (const auto& mode : modes) recorders.emplace_back(seq, mode, eo, sigma);
+  for (std::size_t i = 0; i < seq.frames.size(); ++i)
+    for (std::size_t j = 0; j < recorders.size(); ++j) recorders[(i + j) % recorders.size()].addFrame(i);
+  for (auto& r : recorders) in_turn.push_back(r.finish());
+  for (std::size_t m = 0; m < modes.size(); ++m) {
+    SCOPED_TRACE(modes[m]);
+    EXPECT_EQ(in_turn[m].mode, modes[m]);
+    EXPECT_EQ(in_turn[m].frames, seq.frames.size());
+    ASSERT_GT(alone[m].estimate.size(), seq.frames.size() / 2);
+    ASSERT_EQ(in_turn[m].estimate.size(), alone[m].estimate.size());
+    for (std::size_t i = 0; i < alone[m].estimate.size(); ++i) {
+      ASSERT_EQ(in_turn[m].estimate[i].t, alone[m].estimate[i].t);
+      ASSERT_EQ(in_turn[m].estimate[i].p, alone[m].estimate[i].p) << "pose " << i;
+    }
+    ASSERT_EQ(in_turn[m].detector.size(), alone[m].detector.size());
+    for (std::size_t i = 0; i < alone[m].detector.size(); ++i)
+      ASSERT_EQ(in_turn[m].detector[i].state, alone[m].detector[i].state) << "frame " << i;
+    EXPECT_EQ(in_turn[m].cpu_ms.size(), alone[m].cpu_ms.size());
+    EXPECT_GT(in_turn[m].wall_s, 0.0);
+  }
+  // The two modes differ on this ride: a mix-up between the recorders would show.
+  EXPECT_NE(alone[0].estimate.poses().back().p, alone[1].estimate.poses().back().p);
+  EXPECT_THROW(ModeRunRecorder(seq, "fast", eo, sigma), mcvio::InputError);
 }
 
 TEST(BenchmarkSuite, ShortElevatorRunEndToEnd) {
