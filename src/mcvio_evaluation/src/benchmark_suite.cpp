@@ -135,29 +135,20 @@ BenchmarkSequenceResult BenchmarkSuite::runSequence(const BenchmarkSequence& seq
   const Trajectory ground_truth(std::move(gt_poses), sequence.name + " ground truth");
   const ConflictLabelTimeline labels(seq.labels, sequence.name + " labels");
 
-  // The modes' estimators take each frame in turn (the first one rotating), so that their CPU per
-  // frame is measured under the same host load.
-  std::vector<ModeRunRecorder> recorders;
-  recorders.reserve(options_.modes.size());
-  for (const auto& mode : options_.modes)
-    recorders.emplace_back(seq, mode, options_.estimator, options_.features.pixel_noise_sigma);
-  const std::size_t n_modes = recorders.size();
-  for (std::size_t i = 0; i < seq.frames.size(); ++i)
-    for (std::size_t j = 0; j < n_modes; ++j) recorders[(i + j) % n_modes].addFrame(i);
-  std::vector<BenchmarkModeRun> runs;
-  for (auto& recorder : recorders) {
-    BenchmarkModeRun run = recorder.finish();
-    if (on_run) {
-      std::string line = sequence.name + " " + run.mode + ": " + std::to_string(run.estimate.size()) + "/" +
-                         std::to_string(run.frames) + " frames tracked";
-      if (run.estimate.size() >= 2) {
-        const AteResult quick = computeAte(run.estimate, ground_truth, Alignment::kPositionYaw);
-        line += ", ATE pos+yaw " + fmt("%.3f", quick.translation.rmse) + " m";
-      }
-      line += ", " + fmt("%.2f", median(run.cpu_ms)) + " ms/frame, " + fmt("%.1f", run.wall_s) + " s";
-      on_run(line);
+  // The modes' estimators take each frame in turn, so that their CPU per frame is measured under
+  // the same host load.
+  const std::vector<BenchmarkModeRun> runs =
+      ModeRunRecorder::runInTurn(seq, options_.modes, options_.estimator, options_.features.pixel_noise_sigma);
+  for (const auto& run : runs) {
+    if (!on_run) break;
+    std::string line = sequence.name + " " + run.mode + ": " + std::to_string(run.estimate.size()) + "/" +
+                       std::to_string(run.frames) + " frames tracked";
+    if (run.estimate.size() >= 2) {
+      const AteResult quick = computeAte(run.estimate, ground_truth, Alignment::kPositionYaw);
+      line += ", ATE pos+yaw " + fmt("%.3f", quick.translation.rmse) + " m";
     }
-    runs.push_back(std::move(run));
+    line += ", " + fmt("%.2f", median(run.cpu_ms)) + " ms/frame, " + fmt("%.1f", run.wall_s) + " s";
+    on_run(line);
   }
   BenchmarkSequenceResult result = evaluateSequence(sequence, ground_truth, labels, runs, options_);
   result.frames = seq.frames.size();

@@ -81,4 +81,19 @@ BenchmarkModeRun ModeRunRecorder::finish() {
   return std::move(run_);
 }
 
+std::vector<BenchmarkModeRun> ModeRunRecorder::runInTurn(const sim::FeatureSequence& sequence,
+                                                         const std::vector<std::string>& modes,
+                                                         const estimator::EstimatorOptions& options, double pixel_sigma) {
+  std::vector<ModeRunRecorder> recorders;
+  recorders.reserve(modes.size());
+  for (const auto& mode : modes) recorders.emplace_back(sequence, mode, options, pixel_sigma);
+  const std::size_t n = recorders.size();
+  for (std::size_t i = 0; i < sequence.frames.size(); ++i)
+    for (std::size_t j = 0; j < n; ++j) recorders[(i + j) % n].addFrame(i);
+  std::vector<BenchmarkModeRun> runs;
+  runs.reserve(n);
+  for (auto& recorder : recorders) runs.push_back(recorder.finish());
+  return runs;
+}
+
 }  // namespace mcvio::evaluation

@@ -36,6 +36,12 @@ class ModeRunRecorder {
   /// The run so far; call once, after the last frame.
   BenchmarkModeRun finish();
 
+  /// One recorder per mode over the whole sequence, the modes taking each frame in turn (the
+  /// first one rotating from frame to frame); the runs in the order of `modes`.
+  static std::vector<BenchmarkModeRun> runInTurn(const sim::FeatureSequence& sequence,
+                                                 const std::vector<std::string>& modes,
+                                                 const estimator::EstimatorOptions& options, double pixel_sigma);
+
  private:
   const sim::FeatureSequence* sequence_;
   std::unique_ptr<estimator::SlidingWindowEstimator> estimator_;
